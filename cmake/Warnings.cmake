@@ -1,0 +1,11 @@
+# Project warnings as an interface target: link `lashid::warnings` to opt in.
+add_library(lashid_warnings INTERFACE)
+add_library(lashid::warnings ALIAS lashid_warnings)
+target_compile_options(lashid_warnings INTERFACE
+  $<$<CXX_COMPILER_ID:GNU,Clang>:
+    -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion
+    -Wdouble-promotion -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
+    -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough
+    -Wmisleading-indentation -Wformat=2>
+  $<$<AND:$<CXX_COMPILER_ID:GNU,Clang>,$<BOOL:${LASHID_WARNINGS_AS_ERRORS}>>:-Werror>)
+option(LASHID_WARNINGS_AS_ERRORS "Treat warnings as errors" ON)

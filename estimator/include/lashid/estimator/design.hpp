@@ -1,0 +1,102 @@
+// Experiment design of the DIS (Section 3) and AIS (Section 4) of
+//   F. Giri, Y. Rochdi, A. Brouri, F.Z. Chaoui, "Identification of block-oriented systems in the presence of
+//   nonparametric input nonlinearities of switch and backlash types" (the paper in shared/seed/paper.txt).
+//
+// DIS: between pulses the input is held at v_M and the pulses go down to V_j^d, v_m = V_1^d < ... < V_m^d < v_M.
+// AIS: between pulses the input is held at v_m and the pulses go up to V_j^a, v_M = V_1^a > ... > V_m^a > v_m.
+// In both, W_j = V_j - (held level) and the model is scaled so that F~(W_1) = -1 (DIS, (3.11c)) or +1 (AIS, Remark 3a).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "lashid/estimator/status.hpp"
+
+namespace lashid::est {
+
+enum class Scheme : std::uint8_t {
+  kDescending,  ///< DIS: points on the descendent border
+  kAscending,   ///< AIS: points on the ascendent border
+};
+
+/// Period and pulse instants of Theorem 3.1, (3.25): T = n(m+3), tau_1 = 2n, tau_j = (2+j)n.
+/// (3.1) also asks tau_j - tau_{j-1} >= 2, which (3.25) violates for n = 1 (spacing 1: consecutive pulses would
+/// skip the return to the held level, so a backlash would move on a horizontal line, not on the border). We use
+/// s = max(n, 2) in place of n in (3.25); for n >= 2 this is exactly the paper's schedule.
+template <int N, int M>
+struct PulseSchedule {
+  static_assert(N >= 1 && N <= 8, "model order n must be in [1, 8]");
+  static_assert(M >= 1 && M <= 16, "number of border points m must be in [1, 16]");
+  static constexpr int kSpacing = N < 2 ? 2 : N;
+  static constexpr int kPeriod = kSpacing * (M + 3);
+
+  /// tau_j for j = 1..M.
+  static constexpr int tau(int j) { return j == 1 ? 2 * kSpacing : (2 + j) * kSpacing; }
+
+  /// Index j in 1..M of the pulse at sample t of the pulse experiment, or 0 when the input is held.
+  static constexpr int pulse_at(std::int64_t t) {
+    const auto phase = static_cast<int>(t % kPeriod);
+    for (int j = 1; j <= M; ++j) {
+      if (tau(j) == phase) return j;
+    }
+    return 0;
+  }
+
+  // Design rules of (3.1) checked at compile time; the grouped estimator relies on the spacing >= n
+  // (at most one non-zero input entry per regressor row).
+  static constexpr bool rules_hold() {
+    if (tau(1) < 1 || tau(M) >= kPeriod) return false;
+    for (int j = 2; j <= M; ++j) {
+      if (tau(j) - tau(j - 1) < 2 || tau(j) - tau(j - 1) < N) return false;
+    }
+    return kPeriod - tau(M) >= N;  // the last pulse has left the n lags before the next period's first
+  }
+  static_assert(rules_hold(), "pulse schedule violates (3.1)/(3.25)");
+};
+
+template <class Scalar, int M>
+struct ExperimentDesign {
+  using Abscissas = Eigen::Matrix<Scalar, M, 1>;
+
+  Scheme scheme = Scheme::kDescending;
+  Scalar v_min = Scalar(0);  ///< v_m
+  Scalar v_max = Scalar(0);  ///< v_M
+  Abscissas V = Abscissas::Zero();  ///< V_j^d (DIS) or V_j^a (AIS), j = 1..m, in the paper's order
+
+  /// Level held between pulses: v_M for the DIS, v_m for the AIS.
+  Scalar held_level() const { return scheme == Scheme::kDescending ? v_max : v_min; }
+  /// Level of the first sample of the step experiment (3.4)/(4.1); afterwards the held level.
+  Scalar step_start_level() const { return scheme == Scheme::kDescending ? v_min : v_max; }
+  /// W_j = V_j - held level, (3.12) and (4.3).
+  Abscissas W() const { return V.array() - held_level(); }
+  /// F~(W_1) after scaling: -1 for the DIS (3.11c), +1 for the AIS (Remark 3a).
+  Scalar scaled_first_point() const { return scheme == Scheme::kDescending ? Scalar(-1) : Scalar(1); }
+
+  Status validate() const {
+    if (!std::isfinite(v_min) || !std::isfinite(v_max) || !(v_min < v_max)) return Status::kIntervalInvalid;
+    for (int j = 0; j < M; ++j) {
+      if (!std::isfinite(V(j))) return Status::kAbscissasNotOrdered;
+    }
+    if (scheme == Scheme::kDescending) {
+      if (V(0) != v_min || !(V(M - 1) < v_max)) return Status::kAbscissasNotOrdered;
+      for (int j = 1; j < M; ++j) {
+        if (!(V(j - 1) < V(j))) return Status::kAbscissasNotOrdered;
+      }
+    } else {
+      if (V(0) != v_max || !(V(M - 1) > v_min)) return Status::kAbscissasNotOrdered;
+      for (int j = 1; j < M; ++j) {
+        if (!(V(j - 1) > V(j))) return Status::kAbscissasNotOrdered;
+      }
+    }
+    return Status::kOk;
+  }
+};
+
+/// Orders a runtime caller (CLI, config file) asks for must lie in the range it compiled: a status, not a crash.
+constexpr Status check_orders(int n, int m, int max_n, int max_m) {
+  return (n >= 1 && n <= max_n && m >= 1 && m <= max_m) ? Status::kOk : Status::kOrderOutOfRange;
+}
+
+}  // namespace lashid::est

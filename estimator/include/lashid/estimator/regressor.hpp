@@ -1,0 +1,92 @@
+// The regressor Phi(t) of (3.19b) built from O(n) history of the centred signals (3.9a)/(4.3):
+//   Phi(t) = [-y~(t-1) .. -y~(t-n),  v~(t-1)P_1(v~(t-1)) .. v~(t-n)P_1(v~(t-n)),  ...,  .. v~(t-n)P_m(v~(t-n))]
+//   Theta  = [a_1 .. a_n, mu_11 .. mu_n1, ..., mu_1m .. mu_nm],   mu_ij = b_i c_j.
+// Column of mu_ij (1-based i, j) in Theta: n + (j-1) n + (i-1).
+//
+// Sparse view: on the design, v~(t-i) is 0 or some W_l and P_j(W_l) = delta_jl, so the input part of Phi(t) has a
+// non-zero only at column (l, i), of value W_l; with the pulse spacing of (3.25) at most one lag holds a pulse,
+// hence at most one non-zero input entry per row. GroupedLeastSquares exploits this.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "lashid/estimator/lagrange.hpp"
+#include "lashid/estimator/status.hpp"
+
+namespace lashid::est {
+
+template <class Scalar, int N, int M>
+struct SparseRegressor {
+  Eigen::Matrix<Scalar, N, 1> phi_y;  ///< [-y~(t-1) .. -y~(t-n)]
+  int input_column = -1;              ///< index k in 0..N*M-1 of the input entry among the mu's, -1 if none
+  Scalar input_value = Scalar(0);     ///< its value W_l
+};
+
+template <class Scalar, int N, int M>
+class RegressorBuilder {
+ public:
+  static constexpr int kDim = N + N * M;
+  using Dense = Eigen::Matrix<Scalar, kDim, 1>;
+  using Basis = LagrangeBasis<Scalar, M>;
+
+  explicit RegressorBuilder(const typename Basis::Nodes& W) : basis_(W) {}
+
+  /// True once n samples of history exist, i.e. Phi(t) is defined for the next sample.
+  bool ready() const { return filled_ >= N; }
+
+  /// Appends the centred sample (v~(t), y~(t)) after Phi(t) has been used.
+  void push(Scalar v_tilde, Scalar y_tilde) {
+    for (int i = N - 1; i > 0; --i) {
+      v_(i) = v_(i - 1);
+      y_(i) = y_(i - 1);
+      class_[i] = class_[i - 1];
+    }
+    v_(0) = v_tilde;
+    y_(0) = y_tilde;
+    class_[0] = basis_.classify(v_tilde);
+    if (filled_ < N) ++filled_;
+  }
+
+  void reset() { filled_ = 0; }
+
+  /// Sparse Phi(t) for the next sample. kInputOffDesign when a lag is off the design or two lags hold pulses.
+  Status sparse(SparseRegressor<Scalar, N, M>& row) const {
+    if (!ready()) return Status::kNotExcited;
+    row.input_column = -1;
+    row.input_value = Scalar(0);
+    for (int i = 0; i < N; ++i) {
+      row.phi_y(i) = -y_(i);
+      const int l = class_[i];
+      if (l == Basis::kOffDesign) return Status::kInputOffDesign;
+      if (l == Basis::kZero) continue;
+      if (row.input_column >= 0) return Status::kInputOffDesign;
+      row.input_column = l * N + i;
+      row.input_value = basis_.nodes()(l);
+    }
+    return Status::kOk;
+  }
+
+  /// Dense Phi(t) of (3.19b), evaluating the Lagrange polynomials (valid for any input, on the design or not).
+  Status dense(Dense& phi) const {
+    if (!ready()) return Status::kNotExcited;
+    for (int i = 0; i < N; ++i) phi(i) = -y_(i);
+    for (int j = 0; j < M; ++j) {
+      for (int i = 0; i < N; ++i) phi(N + j * N + i) = v_(i) * basis_.P(j, v_(i));
+    }
+    return Status::kOk;
+  }
+
+  const Basis& basis() const { return basis_; }
+
+ private:
+  Basis basis_;
+  Eigen::Matrix<Scalar, N, 1> v_ = Eigen::Matrix<Scalar, N, 1>::Zero();  // v_(i) = v~(t-1-i) once pushed
+  Eigen::Matrix<Scalar, N, 1> y_ = Eigen::Matrix<Scalar, N, 1>::Zero();
+  int class_[static_cast<std::size_t>(N)] = {};
+  int filled_ = 0;
+};
+
+}  // namespace lashid::est

@@ -1,0 +1,41 @@
+// Status codes of the estimator. Numerical or input failure is a returned status, never an exception or a crash.
+#pragma once
+
+#include <cstdint>
+
+namespace lashid::est {
+
+enum class [[nodiscard]] Status : std::uint8_t {
+  kOk = 0,
+  kNotConfigured,        ///< the identifier has no valid design yet
+  kOrderOutOfRange,      ///< n or m outside the range the caller supports
+  kIntervalInvalid,      ///< v_min >= v_max, or a bound is not finite
+  kAbscissasNotOrdered,  ///< V_j violate v_m = V_1^d < ... < V_m^d < v_M (DIS) or v_M = V_1^a > ... > V_m^a > v_m (AIS)
+  kNonFinite,            ///< a sample (v or y) is NaN or infinite
+  kInputOffDesign,       ///< v(t) is not the held level or a design abscissa, or two pulses fall within n samples
+  kStepMeanMissing,      ///< a pulse sample arrived before the step experiment produced a mean
+  kNotExcited,           ///< some parameter has not been excited yet (too few samples)
+  kIllConditioned,       ///< the (reduced) normal matrix is too ill-conditioned for the scalar type
+  kDegenerateGain,       ///< sum b_i^2 = 0 or B(1) = 0: (3.22b)/(3.23) cannot be evaluated
+};
+
+constexpr const char* to_string(Status s) {
+  switch (s) {
+    case Status::kOk: return "ok";
+    case Status::kNotConfigured: return "not configured";
+    case Status::kOrderOutOfRange: return "order out of range";
+    case Status::kIntervalInvalid: return "working interval invalid (need finite v_min < v_max)";
+    case Status::kAbscissasNotOrdered: return "abscissas not ordered as the paper requires";
+    case Status::kNonFinite: return "non-finite sample";
+    case Status::kInputOffDesign: return "input not on the experiment design";
+    case Status::kStepMeanMissing: return "pulse sample before the step-experiment mean";
+    case Status::kNotExcited: return "not excited yet";
+    case Status::kIllConditioned: return "ill-conditioned normal matrix";
+    case Status::kDegenerateGain: return "degenerate gain (sum b_i^2 = 0 or B(1) = 0)";
+  }
+  return "unknown status";
+}
+
+constexpr bool ok(Status s) { return s == Status::kOk; }
+
+}  // namespace lashid::est

@@ -1,0 +1,246 @@
+// Estimator pieces against the paper and closed forms: schedule (Theorem 3.1), validation, Lagrange basis (3.15),
+// step mean (3.7), exact recovery on noise-free data (3.20), grouped RLS == batch LS (3.21), heap-freedom.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "lashid/estimator/batch_ls.hpp"
+#include "lashid/estimator/excitation.hpp"
+#include "lashid/estimator/identifier.hpp"
+#include "paper_examples.hpp"
+
+namespace {
+
+using namespace lashid::est;
+using lashid::test::AisExample;
+using lashid::test::DisExample;
+
+// Heap use inside the estimator fails the test (Eigen asserts when it would allocate).
+struct NoMalloc {
+  NoMalloc() { Eigen::internal::set_is_malloc_allowed(false); }
+  ~NoMalloc() { Eigen::internal::set_is_malloc_allowed(true); }
+};
+
+TEST(PulseSchedule, MatchesTheorem31) {
+  using S = PulseSchedule<2, 6>;  // T = n(m+3) = 18, tau_1 = 2n = 4, tau_j = (2+j)n
+  EXPECT_EQ(S::kPeriod, 18);
+  const int expected[] = {4, 8, 10, 12, 14, 16};
+  for (int j = 1; j <= 6; ++j) EXPECT_EQ(S::tau(j), expected[j - 1]) << "j=" << j;
+  using S3 = PulseSchedule<3, 4>;  // T = 21, tau = 6, 12, 15, 18
+  EXPECT_EQ(S3::kPeriod, 21);
+  EXPECT_EQ(S3::tau(1), 6);
+  EXPECT_EQ(S3::tau(2), 12);
+  EXPECT_EQ(S3::tau(4), 18);
+  // Over two periods, pulse j sits exactly at t_k + tau_j and nowhere else.
+  int pulses = 0;
+  for (int t = 0; t < 2 * 18; ++t) {
+    const int j = S::pulse_at(t);
+    if (j != 0) {
+      ++pulses;
+      EXPECT_EQ(t % 18, expected[j - 1]);
+    }
+  }
+  EXPECT_EQ(pulses, 12);
+}
+
+TEST(PulseSchedule, OrderOneKeepsTheReturnToTheHeldLevel) {
+  // (3.25) with n = 1 would put pulses 1 sample apart, against (3.1)'s tau_j - tau_{j-1} >= 2.
+  using S = PulseSchedule<1, 4>;
+  for (int j = 2; j <= 4; ++j) EXPECT_GE(S::tau(j) - S::tau(j - 1), 2);
+}
+
+TEST(ExperimentDesign, RejectsWhatThePaperForbids) {
+  ExperimentDesign<double, 3> d;
+  d.scheme = Scheme::kDescending;
+  d.v_min = -3;
+  d.v_max = 4;
+  d.V << -3, -1, 2;
+  EXPECT_EQ(d.validate(), Status::kOk);
+  d.V << -2, -1, 2;  // V_1^d must equal v_m
+  EXPECT_EQ(d.validate(), Status::kAbscissasNotOrdered);
+  d.V << -3, 2, -1;  // not increasing
+  EXPECT_EQ(d.validate(), Status::kAbscissasNotOrdered);
+  d.V << -3, -1, 4;  // V_m^d must be < v_M
+  EXPECT_EQ(d.validate(), Status::kAbscissasNotOrdered);
+  d.V << -3, -1, std::nan("");
+  EXPECT_EQ(d.validate(), Status::kAbscissasNotOrdered);
+  d.V << -3, -1, 2;
+  d.v_max = -3;
+  EXPECT_EQ(d.validate(), Status::kIntervalInvalid);
+  d.v_max = 4;
+  d.scheme = Scheme::kAscending;  // AIS: v_M = V_1^a > ... > V_m^a > v_m
+  EXPECT_EQ(d.validate(), Status::kAbscissasNotOrdered);
+  d.V << 4, 1, -2;
+  EXPECT_EQ(d.validate(), Status::kOk);
+  d.V << 4, 1, -3;
+  EXPECT_EQ(d.validate(), Status::kAbscissasNotOrdered);
+  EXPECT_EQ(check_orders(0, 6, 3, 8), Status::kOrderOutOfRange);
+  EXPECT_EQ(check_orders(2, 9, 3, 8), Status::kOrderOutOfRange);
+  EXPECT_EQ(check_orders(2, 6, 3, 8), Status::kOk);
+}
+
+TEST(LagrangeBasis, KroneckerPropertyAndPartitionOfUnity) {
+  Eigen::Matrix<double, 6, 1> W;
+  W << -7, -6, -5, -3, -2, -1;  // W_j = V_j^d - v_M of the DIS example
+  const LagrangeBasis<double, 6> basis(W);
+  for (int j = 0; j < 6; ++j) {
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(basis.P(j, W(i)), i == j ? 1.0 : 0.0, 1e-12) << i << "," << j;
+  }
+  // Lagrange polynomials of degree m-1 reproduce constants and w itself: sum P_j = 1, sum W_j P_j(w) = w.
+  for (double w : {0.0, -4.0, 0.5, -6.5}) {
+    double sum = 0, lin = 0;
+    for (int j = 0; j < 6; ++j) {
+      sum += basis.P(j, w);
+      lin += W(j) * basis.P(j, w);
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+    EXPECT_NEAR(lin, w, 1e-11);
+  }
+  EXPECT_EQ(basis.classify(0.0), (LagrangeBasis<double, 6>::kZero));
+  EXPECT_EQ(basis.classify(-5.0), 2);
+  EXPECT_EQ(basis.classify(-4.0), (LagrangeBasis<double, 6>::kOffDesign));
+}
+
+TEST(StepMean, SkipsTheFirstSampleAndIsExactForAConstant) {
+  StepMean<float> mean;
+  EXPECT_FALSE(mean.ready());
+  EXPECT_EQ(mean.add(0, 1000.0f), Status::kOk);  // t = 0: input still at the opposite bound
+  for (int t = 1; t <= 100000; ++t) EXPECT_EQ(mean.add(t, 26.37f + ((t % 2) != 0 ? 0.5f : -0.5f)), Status::kOk);
+  EXPECT_NEAR(mean.mean(), 26.37f, 2e-5f);
+  EXPECT_NEAR(mean.variance(), 0.25f, 1e-4f);
+  EXPECT_EQ(mean.add(7, std::nanf("")), Status::kNonFinite);
+}
+
+// The DPE model (3.3): during the pulse experiment u(t) = F(v(t)) exactly, with F the closed form of the example.
+template <class Scalar, template <class, int, int> class Solver, class Border>
+SchemeIdentifier<Scalar, 2, 6, Solver> run_dpe(Scheme scheme, double v_min, double v_max, const std::array<double, 6>& V,
+                                                std::array<double, 2> a, std::array<double, 2> b, Border F,
+                                                double noise_sd, int L, int N, unsigned seed) {
+  ExperimentDesign<Scalar, 6> d;
+  d.scheme = scheme;
+  d.v_min = static_cast<Scalar>(v_min);
+  d.v_max = static_cast<Scalar>(v_max);
+  for (int j = 0; j < 6; ++j) d.V(j) = static_cast<Scalar>(V[static_cast<std::size_t>(j)]);
+  SchemeIdentifier<Scalar, 2, 6, Solver> id;
+  EXPECT_EQ(id.configure(d), Status::kOk);
+  const ExcitationGenerator<double, 2, 6> gen([&] {
+    ExperimentDesign<double, 6> dd;
+    dd.scheme = scheme;
+    dd.v_min = v_min;
+    dd.v_max = v_max;
+    for (int j = 0; j < 6; ++j) dd.V(j) = V[static_cast<std::size_t>(j)];
+    return dd;
+  }());
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> xi(0.0, noise_sd);
+  // Start at the equilibrium of the held output, so that noise-free the step mean is exactly B(1)u/A(1).
+  const double held_u = F(scheme == Scheme::kDescending ? v_max : v_min);
+  const double y_eq = (b[0] + b[1]) * held_u / (1 + a[0] + a[1]);
+  double y1 = y_eq, y2 = y_eq, u1 = held_u, u2 = held_u;
+  auto plant = [&](double u) {  // y(t) = -a1 y(t-1) - a2 y(t-2) + b1 u(t-1) + b2 u(t-2) + xi(t)
+    const double y = -a[0] * y1 - a[1] * y2 + b[0] * u1 + b[1] * u2 + (noise_sd > 0 ? xi(rng) : 0.0);
+    y2 = y1;
+    y1 = y;
+    u2 = u1;
+    u1 = u;
+    return y;
+  };
+  for (int t = 0; t <= L; ++t) {
+    const double v = gen.step_input(t);
+    const double y = plant(held_u);  // from t = 1 on the operator sits at the held output (3.4)-(3.5)
+    EXPECT_EQ(id.add_step_sample(static_cast<Scalar>(v), static_cast<Scalar>(y)), Status::kOk);
+  }
+  for (int t = 0; t < N; ++t) {
+    const double v = gen.pulse_input(t);
+    const double y = plant(F(v));
+    EXPECT_EQ(id.add_pulse_sample(static_cast<Scalar>(v), static_cast<Scalar>(y)), Status::kOk);
+  }
+  return id;
+}
+
+TEST(Recovery, DisNoiseFreeIsExact) {
+  const NoMalloc guard;
+  auto id = run_dpe<double, GroupedLeastSquares>(Scheme::kDescending, DisExample::v_min, DisExample::v_max,
+                                                 DisExample::V, DisExample::a, DisExample::b, DisExample::F_d, 0.0,
+                                                 50, 400, 1);
+  const auto e = id.estimate();
+  ASSERT_EQ(e.status, Status::kOk) << to_string(e.status);
+  const double u_M = DisExample::u_M();
+  EXPECT_NEAR(e.ybar0, (70.5 - 35.25) * u_M / 2.21, 1e-12);  // (3.7)
+  EXPECT_NEAR(e.a(0), 1.0, 1e-9);
+  EXPECT_NEAR(e.a(1), 0.21, 1e-9);
+  EXPECT_NEAR(e.b(0), 70.5, 1e-9);
+  EXPECT_NEAR(e.b(1), -35.25, 1e-9);
+  EXPECT_NEAR(e.held_output, u_M, 1e-9);
+  for (int j = 0; j < 6; ++j) {
+    const double V = DisExample::V[static_cast<std::size_t>(j)];
+    const double W = V - DisExample::v_max;
+    EXPECT_NEAR(e.c(j), (DisExample::F_d(V) - u_M) / W, 1e-9) << "c_" << j + 1;  // (3.14b)
+    EXPECT_NEAR(e.F(j), DisExample::F_d(V), 1e-9) << "F^d(V_" << j + 1 << ")";  // Table 2, exact values
+    // mu_ij = b_i c_j (3.18)
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_NEAR(e.ls.theta(2 + 2 * j + i), DisExample::b[static_cast<std::size_t>(i)] * e.c(j), 1e-8);
+    }
+  }
+  EXPECT_NEAR(e.F(0), DisExample::u_m(), 1e-9);  // V_1^d = v_m
+}
+
+TEST(Recovery, AisNoiseFreeIsExact) {
+  const NoMalloc guard;
+  auto id = run_dpe<double, GroupedLeastSquares>(Scheme::kAscending, AisExample::v_min, AisExample::v_max,
+                                                 AisExample::V, AisExample::a(), AisExample::b(), AisExample::F_a,
+                                                 0.0, 50, 400, 1);
+  const auto e = id.estimate();
+  ASSERT_EQ(e.status, Status::kOk) << to_string(e.status);
+  EXPECT_NEAR(e.a(0), -1.25, 1e-9);
+  EXPECT_NEAR(e.a(1), 0.375, 1e-9);
+  EXPECT_NEAR(e.b(0), 4 * AisExample::K(), 1e-9);  // 11.4105 (4.6)
+  EXPECT_NEAR(e.b(1), -AisExample::K(), 1e-9);     // -2.8526
+  EXPECT_NEAR(e.held_output, AisExample::u_m(), 1e-9);
+  for (int j = 0; j < 6; ++j) {
+    const double V = AisExample::V[static_cast<std::size_t>(j)];
+    EXPECT_NEAR(e.F(j), AisExample::F_a(V), 1e-9) << "F^a(V_" << j + 1 << ")";  // Table 5, exact values
+  }
+  EXPECT_NEAR(e.F(0), AisExample::u_M(), 1e-9);  // V_1^a = v_M
+}
+
+TEST(GroupedLeastSquares, EqualsBatchLeastSquaresOnNoisyData) {
+  const NoMalloc guard;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    auto grouped = run_dpe<double, GroupedLeastSquares>(Scheme::kDescending, DisExample::v_min, DisExample::v_max,
+                                                        DisExample::V, DisExample::a, DisExample::b,
+                                                        DisExample::F_d, 4.0, 2000, 2000, seed);
+    auto batch = run_dpe<double, BatchLeastSquares>(Scheme::kDescending, DisExample::v_min, DisExample::v_max,
+                                                    DisExample::V, DisExample::a, DisExample::b, DisExample::F_d,
+                                                    4.0, 2000, 2000, seed);
+    const auto g = grouped.estimate();
+    const auto b = batch.estimate();
+    ASSERT_EQ(g.status, Status::kOk);
+    ASSERT_EQ(b.status, Status::kOk);
+    EXPECT_EQ(g.ls.rows, b.ls.rows);
+    EXPECT_LT((g.ls.theta - b.ls.theta).norm() / b.ls.theta.norm(), 1e-10) << "seed " << seed;
+    EXPECT_NEAR(g.ls.noise_variance, b.ls.noise_variance, 1e-8 * b.ls.noise_variance);
+    EXPECT_LT((g.ls.std_error - b.ls.std_error).cwiseAbs().maxCoeff(), 1e-6 * b.ls.std_error.maxCoeff());
+  }
+}
+
+TEST(SchemeIdentifier, ReportsBadInputAsStatus) {
+  SchemeIdentifier<float, 2, 6> id;
+  EXPECT_EQ(id.add_step_sample(4.0f, 1.0f), Status::kNotConfigured);
+  ExperimentDesign<float, 6> d;
+  d.v_min = -3;
+  d.v_max = 4;
+  d.V << -3, -2, -1, 1, 2, 3;
+  ASSERT_EQ(id.configure(d), Status::kOk);
+  EXPECT_EQ(id.add_pulse_sample(4.0f, 1.0f), Status::kStepMeanMissing);
+  EXPECT_EQ(id.add_step_sample(4.0f, 1.0f), Status::kInputOffDesign);  // t = 0 must be v_m
+  EXPECT_EQ(id.add_step_sample(4.0f, 1.0f), Status::kOk);
+  EXPECT_EQ(id.add_step_sample(4.0f, std::nanf("")), Status::kNonFinite);
+  EXPECT_EQ(id.add_pulse_sample(0.5f, 1.0f), Status::kInputOffDesign);  // not a design abscissa
+  EXPECT_EQ(id.estimate().status, Status::kNotExcited);
+}
+
+}  // namespace
