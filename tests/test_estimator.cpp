@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <random>
 #include <vector>
 
 #include "lashid/estimator/batch_ls.hpp"
+#include "lashid/estimator/covariance_rls.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
 #include "paper_examples.hpp"
@@ -115,29 +118,25 @@ TEST(StepMean, SkipsTheFirstSampleAndIsExactForAConstant) {
 }
 
 // The DPE model (3.3): during the pulse experiment u(t) = F(v(t)) exactly, with F the closed form of the example.
-template <class Scalar, template <class, int, int> class Solver, class Border>
-SchemeIdentifier<Scalar, 2, 6, Solver> run_dpe(Scheme scheme, double v_min, double v_max, const std::array<double, 6>& V,
-                                                std::array<double, 2> a, std::array<double, 2> b, Border F,
-                                                double noise_sd, int L, int N, unsigned seed) {
-  ExperimentDesign<Scalar, 6> d;
-  d.scheme = scheme;
-  d.v_min = static_cast<Scalar>(v_min);
-  d.v_max = static_cast<Scalar>(v_max);
-  for (int j = 0; j < 6; ++j) d.V(j) = static_cast<Scalar>(V[static_cast<std::size_t>(j)]);
-  SchemeIdentifier<Scalar, 2, 6, Solver> id;
-  EXPECT_EQ(id.configure(d), Status::kOk);
-  const ExcitationGenerator<double, 2, 6> gen([&] {
-    ExperimentDesign<double, 6> dd;
-    dd.scheme = scheme;
-    dd.v_min = v_min;
-    dd.v_max = v_max;
-    for (int j = 0; j < 6; ++j) dd.V(j) = V[static_cast<std::size_t>(j)];
-    return dd;
-  }());
+struct Experiment {
+  ExperimentDesign<double, 6> design;
+  std::vector<double> step_v, step_y, pulse_v, pulse_y;
+};
+
+template <class Border>
+Experiment generate_dpe(Scheme scheme, double v_min, double v_max, const std::array<double, 6>& V,
+                        std::array<double, 2> a, std::array<double, 2> b, Border F, double noise_sd, int L, int N,
+                        unsigned seed) {
+  Experiment x;
+  x.design.scheme = scheme;
+  x.design.v_min = v_min;
+  x.design.v_max = v_max;
+  for (int j = 0; j < 6; ++j) x.design.V(j) = V[static_cast<std::size_t>(j)];
+  const ExcitationGenerator<double, 2, 6> gen(x.design);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> xi(0.0, noise_sd);
   // Start at the equilibrium of the held output, so that noise-free the step mean is exactly B(1)u/A(1).
-  const double held_u = F(scheme == Scheme::kDescending ? v_max : v_min);
+  const double held_u = F(x.design.held_level());
   const double y_eq = (b[0] + b[1]) * held_u / (1 + a[0] + a[1]);
   double y1 = y_eq, y2 = y_eq, u1 = held_u, u2 = held_u;
   auto plant = [&](double u) {  // y(t) = -a1 y(t-1) - a2 y(t-2) + b1 u(t-1) + b2 u(t-2) + xi(t)
@@ -149,24 +148,53 @@ SchemeIdentifier<Scalar, 2, 6, Solver> run_dpe(Scheme scheme, double v_min, doub
     return y;
   };
   for (int t = 0; t <= L; ++t) {
-    const double v = gen.step_input(t);
-    const double y = plant(held_u);  // from t = 1 on the operator sits at the held output (3.4)-(3.5)
-    EXPECT_EQ(id.add_step_sample(static_cast<Scalar>(v), static_cast<Scalar>(y)), Status::kOk);
+    x.step_v.push_back(gen.step_input(t));
+    x.step_y.push_back(plant(held_u));  // from t = 1 on the operator sits at the held output (3.4)-(3.5)
   }
   for (int t = 0; t < N; ++t) {
-    const double v = gen.pulse_input(t);
-    const double y = plant(F(v));
-    EXPECT_EQ(id.add_pulse_sample(static_cast<Scalar>(v), static_cast<Scalar>(y)), Status::kOk);
+    x.pulse_v.push_back(gen.pulse_input(t));
+    x.pulse_y.push_back(plant(F(x.pulse_v.back())));
+  }
+  return x;
+}
+
+template <class Scalar, template <class, int, int> class Solver = GroupedLeastSquares>
+SchemeIdentifier<Scalar, 2, 6, Solver> feed(const Experiment& x, int* failed_updates = nullptr) {
+  ExperimentDesign<Scalar, 6> d;
+  d.scheme = x.design.scheme;
+  d.v_min = static_cast<Scalar>(x.design.v_min);
+  d.v_max = static_cast<Scalar>(x.design.v_max);
+  d.V = x.design.V.cast<Scalar>();
+  SchemeIdentifier<Scalar, 2, 6, Solver> id;
+  EXPECT_EQ(id.configure(d), Status::kOk);
+  const NoMalloc guard;
+  for (std::size_t t = 0; t < x.step_v.size(); ++t) {
+    EXPECT_EQ(id.add_step_sample(static_cast<Scalar>(x.step_v[t]), static_cast<Scalar>(x.step_y[t])), Status::kOk);
+  }
+  for (std::size_t t = 0; t < x.pulse_v.size(); ++t) {
+    const Status s = id.add_pulse_sample(static_cast<Scalar>(x.pulse_v[t]), static_cast<Scalar>(x.pulse_y[t]));
+    if (s == Status::kOk) continue;
+    if (failed_updates != nullptr) {
+      ++*failed_updates;
+    } else {
+      ADD_FAILURE() << "t=" << t << ": " << to_string(s);
+    }
   }
   return id;
 }
 
+Experiment dis_experiment(double noise_sd, int L, int N, unsigned seed) {
+  return generate_dpe(Scheme::kDescending, DisExample::v_min, DisExample::v_max, DisExample::V, DisExample::a,
+                      DisExample::b, DisExample::F_d, noise_sd, L, N, seed);
+}
+Experiment ais_experiment(double noise_sd, int L, int N, unsigned seed) {
+  return generate_dpe(Scheme::kAscending, AisExample::v_min, AisExample::v_max, AisExample::V, AisExample::a(),
+                      AisExample::b(), AisExample::F_a, noise_sd, L, N, seed);
+}
+
 TEST(Recovery, DisNoiseFreeIsExact) {
   const NoMalloc guard;
-  auto id = run_dpe<double, GroupedLeastSquares>(Scheme::kDescending, DisExample::v_min, DisExample::v_max,
-                                                 DisExample::V, DisExample::a, DisExample::b, DisExample::F_d, 0.0,
-                                                 50, 400, 1);
-  const auto e = id.estimate();
+  const auto e = feed<double>(dis_experiment(0.0, 50, 400, 1)).estimate();
   ASSERT_EQ(e.status, Status::kOk) << to_string(e.status);
   const double u_M = DisExample::u_M();
   EXPECT_NEAR(e.ybar0, (70.5 - 35.25) * u_M / 2.21, 1e-12);  // (3.7)
@@ -190,10 +218,7 @@ TEST(Recovery, DisNoiseFreeIsExact) {
 
 TEST(Recovery, AisNoiseFreeIsExact) {
   const NoMalloc guard;
-  auto id = run_dpe<double, GroupedLeastSquares>(Scheme::kAscending, AisExample::v_min, AisExample::v_max,
-                                                 AisExample::V, AisExample::a(), AisExample::b(), AisExample::F_a,
-                                                 0.0, 50, 400, 1);
-  const auto e = id.estimate();
+  const auto e = feed<double>(ais_experiment(0.0, 50, 400, 1)).estimate();
   ASSERT_EQ(e.status, Status::kOk) << to_string(e.status);
   EXPECT_NEAR(e.a(0), -1.25, 1e-9);
   EXPECT_NEAR(e.a(1), 0.375, 1e-9);
@@ -208,16 +233,10 @@ TEST(Recovery, AisNoiseFreeIsExact) {
 }
 
 TEST(GroupedLeastSquares, EqualsBatchLeastSquaresOnNoisyData) {
-  const NoMalloc guard;
   for (unsigned seed : {1u, 2u, 3u}) {
-    auto grouped = run_dpe<double, GroupedLeastSquares>(Scheme::kDescending, DisExample::v_min, DisExample::v_max,
-                                                        DisExample::V, DisExample::a, DisExample::b,
-                                                        DisExample::F_d, 4.0, 2000, 2000, seed);
-    auto batch = run_dpe<double, BatchLeastSquares>(Scheme::kDescending, DisExample::v_min, DisExample::v_max,
-                                                    DisExample::V, DisExample::a, DisExample::b, DisExample::F_d,
-                                                    4.0, 2000, 2000, seed);
-    const auto g = grouped.estimate();
-    const auto b = batch.estimate();
+    const Experiment x = dis_experiment(4.0, 2000, 2000, seed);
+    const auto g = feed<double>(x).estimate();
+    const auto b = feed<double, BatchLeastSquares>(x).estimate();
     ASSERT_EQ(g.status, Status::kOk);
     ASSERT_EQ(b.status, Status::kOk);
     EXPECT_EQ(g.ls.rows, b.ls.rows);
@@ -225,6 +244,50 @@ TEST(GroupedLeastSquares, EqualsBatchLeastSquaresOnNoisyData) {
     EXPECT_NEAR(g.ls.noise_variance, b.ls.noise_variance, 1e-8 * b.ls.noise_variance);
     EXPECT_LT((g.ls.std_error - b.ls.std_error).cwiseAbs().maxCoeff(), 1e-6 * b.ls.std_error.maxCoeff());
   }
+}
+
+// float32 recursive vs double batch (3.21), relative difference of Theta. Target of the issue: <= 1e-3, aim 1e-4.
+double float_vs_double(const Experiment& x, double* rcond = nullptr) {
+  const auto f = feed<float>(x).estimate();
+  const auto d = feed<double, BatchLeastSquares>(x).estimate();
+  EXPECT_EQ(f.status, Status::kOk) << to_string(f.status);
+  EXPECT_EQ(d.status, Status::kOk) << to_string(d.status);
+  if (rcond != nullptr) *rcond = static_cast<double>(f.ls.rcond);
+  return (f.ls.theta.cast<double>() - d.ls.theta).norm() / d.ls.theta.norm();
+}
+
+TEST(GroupedLeastSquares, Float32MatchesDoubleBatchOnThePaperExamples) {
+  double rcond = 0;
+  const double dis = float_vs_double(dis_experiment(4.0, 2000, 2000, 11), &rcond);
+  RecordProperty("dis_rel_diff", std::to_string(dis));
+  std::printf("DIS N=2000: float32 grouped vs double batch: %.3g (reduced rcond %.3g)\n", dis, rcond);
+  EXPECT_LT(dis, 1e-4);
+  const double ais = float_vs_double(ais_experiment(std::sqrt(0.15), 2000, 8000, 12), &rcond);
+  std::printf("AIS N=8000: float32 grouped vs double batch: %.3g (reduced rcond %.3g)\n", ais, rcond);
+  EXPECT_LT(ais, 1e-4);
+}
+
+TEST(GroupedLeastSquares, Float32StaysBoundedOverAMillionSamples) {
+  const double dis = float_vs_double(dis_experiment(4.0, 2000, 1'000'000, 21));
+  std::printf("DIS N=1e6: float32 grouped vs double batch: %.3g\n", dis);
+  EXPECT_LT(dis, 1e-4);
+  const double ais = float_vs_double(ais_experiment(std::sqrt(0.15), 2000, 1'000'000, 22));
+  std::printf("AIS N=1e6: float32 grouped vs double batch: %.3g\n", ais);
+  EXPECT_LT(ais, 1e-4);
+}
+
+TEST(CovarianceRls, Float32DriftsWhereTheGroupedFormDoesNot) {
+  // The textbook baseline, for the record (docs/estimator.md): same data, float32 covariance form.
+  // It either reports a loss of positive definiteness (1 + phi'P phi <= 0) or ends far from (3.21).
+  const Experiment x = dis_experiment(4.0, 2000, 200'000, 31);
+  int breakdowns = 0;
+  const auto c = feed<float, CovarianceRls>(x, &breakdowns).estimate();
+  const auto d = feed<double, BatchLeastSquares>(x).estimate();
+  const double rel = (c.ls.theta.cast<double>() - d.ls.theta).norm() / d.ls.theta.norm();
+  const double grouped = float_vs_double(x);
+  std::printf("DIS N=2e5: float32 covariance RLS vs double batch: %.3g, %d rejected updates (grouped: %.3g)\n", rel,
+              breakdowns, grouped);
+  EXPECT_TRUE(breakdowns > 0 || rel > 10 * grouped);
 }
 
 TEST(SchemeIdentifier, ReportsBadInputAsStatus) {
