@@ -1,5 +1,7 @@
 #include "lashid/sim/config.hpp"
 
+#include "lashid/estimator/design.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>  // fmt::join
 
@@ -309,15 +311,13 @@ void write_json_file(const std::filesystem::path& path, const nlohmann::json& do
 void check_recording_matches(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
   const auto fail = [&](std::string_view message) { throw DataError(data_name, message); };
   const auto n = static_cast<std::size_t>(config.n);
-  const auto m = static_cast<std::size_t>(config.m);
   // Same matching tolerance as est::LagrangeBasis::classify (64 eps relative to the largest |W_j|, which is
   // v_max - v_min for both schemes): levels that went through a text conversion still count as on-design.
   const double tolerance = 64.0 * std::numeric_limits<double>::epsilon() * (config.v_max - config.v_min);
   const auto matches = [tolerance](double v, double level) { return std::fabs(v - level) <= tolerance; };
-  // est::PulseSchedule spaces pulses by s = max(n, 2) (the paper's n violates tau_j - tau_{j-1} >= 2 for n = 1),
-  // so its period is T = s(m+3); two periods are the least that shows every level after a full period.
-  const std::size_t pulse_spacing = std::max<std::size_t>(n, 2);
-  const std::size_t pulse_minimum = 2 * pulse_spacing * (m + 3);
+  // Two periods of the estimator's schedule (spacing max(n, 2), see est::schedule) are the least that shows every
+  // level after a full period.
+  const auto pulse_minimum = static_cast<std::size_t>(2 * est::schedule::period(config.n, config.m));
   for (const Phase phase : recording.order()) {
     if (phase == Phase::kVal) continue;  // validation data may use any input
     const std::string_view name = to_string(phase);

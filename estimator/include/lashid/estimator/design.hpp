@@ -25,24 +25,31 @@ enum class Scheme : std::uint8_t {
 /// (3.1) also asks tau_j - tau_{j-1} >= 2, which (3.25) violates for n = 1 (spacing 1: consecutive pulses would
 /// skip the return to the held level, so a backlash would move on a horizontal line, not on the border). We use
 /// s = max(n, 2) in place of n in (3.25); for n >= 2 this is exactly the paper's schedule.
+/// Runtime form (simulator, CLI); PulseSchedule below is the compile-time form used by the firmware.
+namespace schedule {
+constexpr int spacing(int n) { return n < 2 ? 2 : n; }
+constexpr int period(int n, int m) { return spacing(n) * (m + 3); }
+/// tau_j for j = 1..m.
+constexpr int tau(int n, int j) { return j == 1 ? 2 * spacing(n) : (2 + j) * spacing(n); }
+/// Index j in 1..m of the pulse at sample t of the pulse experiment, or 0 when the input is held.
+constexpr int pulse_at(int n, int m, std::int64_t t) {
+  const auto phase = static_cast<int>(t % period(n, m));
+  for (int j = 1; j <= m; ++j) {
+    if (tau(n, j) == phase) return j;
+  }
+  return 0;
+}
+}  // namespace schedule
+
 template <int N, int M>
 struct PulseSchedule {
   static_assert(N >= 1 && N <= 8, "model order n must be in [1, 8]");
   static_assert(M >= 1 && M <= 16, "number of border points m must be in [1, 16]");
-  static constexpr int kSpacing = N < 2 ? 2 : N;
-  static constexpr int kPeriod = kSpacing * (M + 3);
+  static constexpr int kSpacing = schedule::spacing(N);
+  static constexpr int kPeriod = schedule::period(N, M);
 
-  /// tau_j for j = 1..M.
-  static constexpr int tau(int j) { return j == 1 ? 2 * kSpacing : (2 + j) * kSpacing; }
-
-  /// Index j in 1..M of the pulse at sample t of the pulse experiment, or 0 when the input is held.
-  static constexpr int pulse_at(std::int64_t t) {
-    const auto phase = static_cast<int>(t % kPeriod);
-    for (int j = 1; j <= M; ++j) {
-      if (tau(j) == phase) return j;
-    }
-    return 0;
-  }
+  static constexpr int tau(int j) { return schedule::tau(N, j); }
+  static constexpr int pulse_at(std::int64_t t) { return schedule::pulse_at(N, M, t); }
 
   // Design rules of (3.1) checked at compile time; the grouped estimator relies on the spacing >= n
   // (at most one non-zero input entry per regressor row).

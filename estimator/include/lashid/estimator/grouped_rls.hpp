@@ -142,9 +142,16 @@ class GroupedLeastSquares {
       out.status = Status::kIllConditioned;
       return out;
     }
-    const Eigen::LDLT<NMat> ldlt(A);
-    const NVec a = ldlt.solve(r);
-    const NMat A_inv = ldlt.solve(NMat::Identity());
+    NVec a;
+    NMat A_inv;
+    if constexpr (N == 1) {  // a division; also keeps Eigen's 1x1 LDLT (and a GCC 12 false warning) out
+      A_inv(0, 0) = Scalar(1) / A(0, 0);
+      a = A_inv * r;
+    } else {
+      const Eigen::LDLT<NMat> ldlt(A);
+      a = ldlt.solve(r);
+      A_inv = ldlt.solve(NMat::Identity());
+    }
 
     const Scalar rss = std::fmax(full(N, N) - r.dot(a), Scalar(0));
     out.noise_variance = rss / static_cast<Scalar>(out.rows - static_cast<std::uint32_t>(kDim));

@@ -1,0 +1,71 @@
+// `lashid scenarios`, `lashid simulate`, `lashid identify`.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "lashid/sim/identify.hpp"
+#include "lashid/sim/reproduction.hpp"
+#include "lashid/sim/scenario.hpp"
+#include "report.hpp"
+
+namespace lashid::app {
+
+using namespace lashid::sim;
+
+int run_scenarios() {
+  for (const Scenario& s : builtin_scenarios()) fmt::print("{:<12} {}\n", s.name, s.description);
+  return 0;
+}
+
+int run_simulate(const SimulateArgs& args) {
+  Scenario scenario = find_scenario(args.scenario);
+  if (args.noise_variance >= 0) scenario.noise_variance = args.noise_variance;
+  SimulationOptions options;
+  options.seed = args.seed;
+  options.input_lag = args.input_lag;
+  const Recording rec = simulate(scenario, options);
+  std::vector<std::string> comments{
+      fmt::format("lashid simulate --scenario {} --seed {}", scenario.name, args.seed),
+      scenario.description,
+      fmt::format("noise variance {}, input lag lambda {}", scenario.noise_variance, args.input_lag)};
+  // Write the config first: if it fails, no recording without its config is left behind.
+  if (!args.config_out.empty()) {
+    ExperimentConfig config = scenario.config;
+    if (args.input_lag != 0) config.truth.reset();  // the truth of the nominal plant no longer applies
+    write_json_file(args.config_out, to_json(config));
+  }
+  write_recording_csv(args.data_out, rec, comments);
+  fmt::print("wrote {} ({} samples){}\n", args.data_out, rec.size(),
+             args.config_out.empty() ? "" : fmt::format(" and {}", args.config_out));
+  return 0;
+}
+
+int run_identify(const IdentifyArgs& args) {
+  const ExperimentConfig config = read_config_json(args.config);
+  const Recording rec = read_recording_csv(args.data);
+  check_recording_matches(config, rec, args.data);
+  IdentifyOptions options;
+  options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
+
+  const bool want_dis = args.scheme == "dis" || (args.scheme == "both" && rec.has(Phase::kDis));
+  const bool want_ais = args.scheme == "ais" || (args.scheme == "both" && rec.has(Phase::kAis));
+  if (!want_dis && !want_ais) {
+    throw DataError(args.data, "no 'dis' or 'ais' phase: nothing to identify");
+  }
+  nlohmann::json out = nlohmann::json::object();
+  int exit_code = 0;
+  for (const auto scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
+    const bool dis = scheme == est::Scheme::kDescending;
+    if (dis ? !want_dis : !want_ais) continue;
+    const SchemeResult r = identify_scheme(config, rec, scheme, options, args.data);
+    print_scheme_result(config, r);
+    if (r.status != est::Status::kOk) exit_code = 2;
+    out[dis ? "dis" : "ais"] = to_json(r);
+  }
+  if (!args.json_out.empty()) write_json_file(args.json_out, out);
+  return exit_code;
+}
+
+}  // namespace lashid::app

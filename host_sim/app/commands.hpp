@@ -1,0 +1,38 @@
+// Subcommands of the `lashid` tool. Each returns the process exit code; errors are thrown as exceptions and
+// reported by main() with a non-zero exit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace lashid::app {
+
+struct SimulateArgs {
+  std::string scenario;
+  std::uint64_t seed = 1;
+  double input_lag = 0;
+  double noise_variance = -1;
+  std::string data_out;
+  std::string config_out;
+};
+int run_simulate(const SimulateArgs& args);
+
+struct IdentifyArgs {
+  std::string config;
+  std::string data;
+  std::string json_out;
+  std::string scheme = "both";  // dis, ais, both
+  bool use_float = false;
+};
+int run_identify(const IdentifyArgs& args);
+
+int run_scenarios();
+
+struct ReproduceArgs {
+  int runs = 1000;
+  std::uint64_t seed = 1;
+  std::string json_out;
+};
+int run_reproduce(const ReproduceArgs& args);
+
+}  // namespace lashid::app

@@ -1,0 +1,64 @@
+// lashid: identification of actuators with backlash or switch behaviour followed by linear dynamics (DIS/AIS).
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  using namespace lashid::app;
+  CLI::App app{"lashid: DIS/AIS identification of Hammerstein-like systems with switch or backlash nonlinearities\n"
+               "(Giri et al., nonparametric borders). See README.md and docs/."};
+  app.require_subcommand(1);
+
+  auto* scenarios = app.add_subcommand("scenarios", "List the built-in simulation scenarios");
+
+  SimulateArgs sim;
+  auto* simulate = app.add_subcommand("simulate", "Simulate a recording (step_d, dis, step_a, ais, val) of a scenario");
+  simulate->add_option("--scenario", sim.scenario, "Scenario name (see `lashid scenarios`)")->required();
+  simulate->add_option("--seed", sim.seed, "Seed of the noise and of the validation input")->capture_default_str();
+  simulate->add_option("--input-lag", sim.input_lag,
+                       "lambda of G = (1-lambda)/(1-lambda q^-1) before the operator (Section 3.5.3)")
+      ->check(CLI::Range(0.0, 0.999))
+      ->capture_default_str();
+  simulate->add_option("--noise-variance", sim.noise_variance, "Override the scenario's noise variance")
+      ->check(CLI::NonNegativeNumber);
+  simulate->add_option("--out", sim.data_out, "Recording to write (CSV, docs/data-format.md)")->required();
+  simulate->add_option("--config-out", sim.config_out, "Config to write (JSON, with the truth)");
+
+  IdentifyArgs id;
+  auto* identify = app.add_subcommand("identify", "Run DIS and/or AIS on a recording and print the estimates");
+  identify->add_option("--config", id.config, "Experiment config (JSON)")->required()->check(CLI::ExistingFile);
+  identify->add_option("--data", id.data, "Recording (CSV)")->required()->check(CLI::ExistingFile);
+  identify->add_option("--json", id.json_out, "Write the estimates as JSON");
+  identify->add_option("--scheme", id.scheme, "Which scheme(s): dis, ais or both (default: those the data holds)")
+      ->check(CLI::IsMember({"dis", "ais", "both"}));
+  identify->add_flag("--float", id.use_float, "Run the estimator in float32, as the firmware does");
+
+  ReproduceArgs rep;
+  auto* reproduce = app.add_subcommand("reproduce", "Reproduce the paper's examples, Table 3 and the consistency check");
+  reproduce->add_option("--runs", rep.runs, "Monte Carlo repetitions (Section 3.5.2)")
+      ->check(CLI::Range(10, 100000))
+      ->capture_default_str();
+  reproduce->add_option("--seed", rep.seed, "Seed of the single runs")->capture_default_str();
+  reproduce->add_option("--json", rep.json_out, "Write all numbers as JSON");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*scenarios) return run_scenarios();
+    if (*simulate) return run_simulate(sim);
+    if (*identify) return run_identify(id);
+    if (*reproduce) return run_reproduce(rep);
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    fmt::print(stderr, "lashid: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}
