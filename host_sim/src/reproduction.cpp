@@ -44,7 +44,7 @@ SchemeResult identify_scenario(const Scenario& scenario, est::Scheme scheme, con
 }
 
 MonteCarloSummary monte_carlo(const Scenario& scenario, est::Scheme scheme, int runs, int pulse_length, double eps,
-                              std::uint64_t first_seed) {
+                              std::uint64_t first_seed, bool keep_results) {
   const std::vector<double> theta = true_theta(scenario.config, scheme);
   double theta_norm = 0;
   for (double x : theta) theta_norm += x * x;
@@ -62,6 +62,7 @@ MonteCarloSummary monte_carlo(const Scenario& scenario, est::Scheme scheme, int 
     run.seed = first_seed + static_cast<std::uint64_t>(r);
     run.pulse_length = pulse_length;
     const SchemeResult res = identify_scenario(scenario, scheme, run);
+    if (keep_results) out.results.push_back(res);
     if (res.status != est::Status::kOk) {
       ++out.failures;
       out.relative_errors.push_back(INFINITY);

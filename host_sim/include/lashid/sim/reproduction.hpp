@@ -34,10 +34,11 @@ struct MonteCarloSummary {
   double mean_relative_error = 0;
   std::vector<double> relative_errors; ///< per run, in run order
   std::vector<double> theta_mean, theta_sd;
+  std::vector<SchemeResult> results;   ///< per run, only when asked for (keep_results)
 };
 
 /// Section 3.5.2: `runs` repetitions with seeds first_seed, first_seed + 1, ...
 MonteCarloSummary monte_carlo(const Scenario& scenario, est::Scheme scheme, int runs, int pulse_length, double eps,
-                              std::uint64_t first_seed);
+                              std::uint64_t first_seed, bool keep_results = false);
 
 }  // namespace lashid::sim
