@@ -1,11 +1,21 @@
 // lashid: identification of actuators with backlash or switch behaviour followed by linear dynamics (DIS/AIS).
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "commands.hpp"
+
+namespace {
+
+// CLI11 converts "-1" to an unsigned seed by wrapping it around to 2^64 - 1; reject it instead.
+const CLI::Validator kNonNegativeSeed(
+    [](const std::string& value) { return value.starts_with('-') ? std::string("must not be negative") : std::string(); },
+    "NONNEGATIVE");
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace lashid::app;
@@ -18,7 +28,9 @@ int main(int argc, char** argv) {
   SimulateArgs sim;
   auto* simulate = app.add_subcommand("simulate", "Simulate a recording (step_d, dis, step_a, ais, val) of a scenario");
   simulate->add_option("--scenario", sim.scenario, "Scenario name (see `lashid scenarios`)")->required();
-  simulate->add_option("--seed", sim.seed, "Seed of the noise and of the validation input")->capture_default_str();
+  simulate->add_option("--seed", sim.seed, "Seed of the noise and of the validation input")
+      ->check(kNonNegativeSeed)
+      ->capture_default_str();
   simulate->add_option("--input-lag", sim.input_lag,
                        "lambda of G = (1-lambda)/(1-lambda q^-1) before the operator (Section 3.5.3)")
       ->check(CLI::Range(0.0, 0.999))
@@ -42,7 +54,9 @@ int main(int argc, char** argv) {
   reproduce->add_option("--runs", rep.runs, "Monte Carlo repetitions (Section 3.5.2)")
       ->check(CLI::Range(10, 100000))
       ->capture_default_str();
-  reproduce->add_option("--seed", rep.seed, "Seed of the single runs")->capture_default_str();
+  reproduce->add_option("--seed", rep.seed, "Seed of the single runs")
+      ->check(kNonNegativeSeed)
+      ->capture_default_str();
   reproduce->add_option("--json", rep.json_out, "Write all numbers as JSON");
 
   try {

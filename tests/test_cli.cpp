@@ -1,0 +1,352 @@
+// End-to-end tests of the `lashid` executable (LASHID_EXE, set by tests/CMakeLists.txt): the real program
+// is run through the shell with stdout and stderr captured, so argument parsing, exit codes, the files
+// written and the error messages a user sees are all covered, not just the library behind them.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+::testing::AssertionResult Contains(std::string_view text, std::string_view part) {
+  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Single quotes make the shell pass every byte through unchanged; a ' inside becomes '\''.
+std::string shell_quote(std::string_view word) {
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+struct Outcome {
+  int exit_code = -1;  // -1: killed by a signal (e.g. a sanitizer abort) or could not be started
+  std::string out;
+  std::string err;
+};
+
+std::ostream& operator<<(std::ostream& os, const Outcome& run) {
+  return os << "exit code " << run.exit_code << "\n--- stdout ---\n" << run.out << "--- stderr ---\n" << run.err;
+}
+
+// Every file below the directory, relative to it, to show that a failing command created nothing.
+std::set<std::string> files_below(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) names.insert(fs::relative(entry, dir).string());
+  return names;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  // Per-test directories: ctest runs the tests of this file in parallel processes. The program runs in
+  // work_ (so relative paths in its arguments land there); its captured output goes beside work_.
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           (std::string("lashid_test_cli_") + info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    work_ = dir_ / "work";
+    fs::create_directories(work_);
+  }
+  // Kept after a failure, for a look at the files involved.
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+
+  Outcome run(const std::vector<std::string>& args) const {
+    // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
+    std::string command = "cd ";
+    command.append(shell_quote(work_.string())).append(" && exec ").append(shell_quote(LASHID_EXE));
+    for (const auto& arg : args) command.append(" ").append(shell_quote(arg));
+    command.append(" >").append(shell_quote((dir_ / "stdout.txt").string()));
+    command.append(" 2>").append(shell_quote((dir_ / "stderr.txt").string())).append(" </dev/null");
+    const int status = std::system(command.c_str());
+    Outcome result;
+    if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+    result.out = slurp(dir_ / "stdout.txt");
+    result.err = slurp(dir_ / "stderr.txt");
+    return result;
+  }
+
+  // dis_paper recording and config with the truth, in work_.
+  void simulate(int seed, const std::string& csv = "rec.csv", const std::string& config = "cfg.json") const {
+    const Outcome r = run({"simulate", "--scenario", "dis_paper", "--seed", std::to_string(seed), "--out", csv,
+                       "--config-out", config});
+    ASSERT_EQ(r.exit_code, 0) << r;
+  }
+
+  json read_json(const std::string& name) const { return json::parse(slurp(work_ / name)); }
+  void write_json(const std::string& name, const json& value) const {
+    std::ofstream(work_ / name) << value.dump(2) << "\n";
+  }
+
+  // Copies the recording `from` to `to` with `edit` applied to the fields of the first row that starts
+  // with `prefix`; returns that row's line number (1-based, as in the reader's messages).
+  int edit_row(const std::string& from, const std::string& to, std::string_view prefix,
+               const std::function<void(std::vector<std::string>&)>& edit) const {
+    std::istringstream in(slurp(work_ / from));
+    std::ofstream out(work_ / to, std::ios::binary);
+    int edited_line = 0;
+    int line_number = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++line_number;
+      if (edited_line == 0 && line.starts_with(prefix)) {
+        edited_line = line_number;
+        std::vector<std::string> fields;
+        std::istringstream row(line);
+        for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+        edit(fields);
+        line.clear();
+        for (std::size_t k = 0; k < fields.size(); ++k) line += (k == 0 ? "" : ",") + fields[k];
+      }
+      out << line << "\n";
+    }
+    EXPECT_NE(edited_line, 0) << "no row starting with " << prefix << " in " << from;
+    return edited_line;
+  }
+
+  fs::path dir_;
+  fs::path work_;
+};
+
+// ||x - ref|| / ||ref||: element-wise relative differences are meaningless for entries near zero.
+double relative_difference(const json& x, const json& ref) {
+  double num = 0, den = 0;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    const double d = x.at(k).get<double>() - ref.at(k).get<double>();
+    num += d * d;
+    den += ref.at(k).get<double>() * ref.at(k).get<double>();
+  }
+  return std::sqrt(num / den);
+}
+
+// --- arguments --------------------------------------------------------------------------------------------
+
+TEST_F(Cli, HelpListsSubcommandsAndTheirOptions) {
+  const Outcome top = run({"--help"});
+  ASSERT_EQ(top.exit_code, 0) << top;
+  for (const char* word : {"scenarios", "simulate", "identify", "reproduce"}) EXPECT_TRUE(Contains(top.out, word));
+
+  const std::vector<std::pair<std::string, std::vector<std::string>>> options{
+      {"scenarios", {}},
+      {"simulate", {"--scenario", "--seed", "--input-lag", "--noise-variance", "--out", "--config-out"}},
+      {"identify", {"--config", "--data", "--json", "--scheme", "--float"}},
+      {"reproduce", {"--runs", "--seed", "--json"}}};
+  for (const auto& [subcommand, names] : options) {
+    const Outcome r = run({subcommand, "--help"});
+    ASSERT_EQ(r.exit_code, 0) << r;
+    EXPECT_TRUE(Contains(r.out, "Usage:")) << subcommand;
+    for (const auto& name : names) EXPECT_TRUE(Contains(r.out, name)) << subcommand;
+  }
+}
+
+TEST_F(Cli, NoSubcommandOrUnknownOptionFails) {
+  const Outcome none = run({});
+  EXPECT_NE(none.exit_code, 0) << none;
+  EXPECT_TRUE(Contains(none.err, "subcommand"));
+
+  const Outcome unknown = run({"simulate", "--scenario", "dis_paper", "--out", "rec.csv", "--bogus"});
+  EXPECT_NE(unknown.exit_code, 0) << unknown;
+  EXPECT_TRUE(Contains(unknown.err, "--bogus"));
+  EXPECT_TRUE(files_below(work_).empty()) << "nothing is simulated when the arguments are wrong";
+}
+
+TEST_F(Cli, NegativeSeedIsRejectedInsteadOfWrappingAround) {
+  for (const char* subcommand : {"simulate", "reproduce"}) {
+    const Outcome r = subcommand == std::string("simulate")
+                      ? run({"simulate", "--scenario", "dis_paper", "--seed", "-1", "--out", "rec.csv"})
+                      : run({"reproduce", "--seed", "-1", "--runs", "10"});
+    EXPECT_NE(r.exit_code, 0) << subcommand << ": " << r;
+    EXPECT_TRUE(Contains(r.err, "--seed")) << subcommand;
+  }
+  EXPECT_TRUE(files_below(work_).empty());
+}
+
+// --- scenarios and simulate -------------------------------------------------------------------------------
+
+TEST_F(Cli, ScenariosListsThePaperExamples) {
+  const Outcome r = run({"scenarios"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.out, "dis_paper"));
+  EXPECT_TRUE(Contains(r.out, "ais_paper"));
+}
+
+TEST_F(Cli, UnknownScenarioFailsAndListsTheKnownOnes) {
+  const Outcome r = run({"simulate", "--scenario", "nope", "--out", "rec.csv", "--config-out", "cfg.json"});
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "'nope'"));
+  EXPECT_TRUE(Contains(r.err, "dis_paper"));
+  EXPECT_TRUE(Contains(r.err, "ais_paper"));
+  EXPECT_TRUE(files_below(work_).empty());
+}
+
+TEST_F(Cli, SimulationIsDeterministicPerSeed) {
+  ASSERT_NO_FATAL_FAILURE(simulate(3, "a.csv", "a.json"));
+  ASSERT_NO_FATAL_FAILURE(simulate(3, "b.csv", "b.json"));
+  ASSERT_NO_FATAL_FAILURE(simulate(4, "c.csv", "c.json"));
+  const std::string a = slurp(work_ / "a.csv");
+  EXPECT_GT(a.size(), 10000u);
+  EXPECT_EQ(a, slurp(work_ / "b.csv")) << "same seed, different recording";
+  EXPECT_NE(a, slurp(work_ / "c.csv")) << "different seed, same recording";
+  EXPECT_EQ(slurp(work_ / "a.json"), slurp(work_ / "c.json")) << "the config does not depend on the seed";
+}
+
+// --- identify ---------------------------------------------------------------------------------------------
+
+TEST_F(Cli, IdentifyRecoversTheSimulatedSystem) {
+  ASSERT_NO_FATAL_FAILURE(simulate(3));
+  const Outcome r = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(r.err.empty()) << r;
+
+  // Both schemes' tables, with the truth from the config beside the estimates.
+  EXPECT_TRUE(Contains(r.out, "DIS"));
+  EXPECT_TRUE(Contains(r.out, "AIS"));
+  EXPECT_TRUE(Contains(r.out, "truth"));
+  EXPECT_TRUE(Contains(r.out, "0.21")) << "true a2 of dis_paper";
+
+  const json est = read_json("est.json");
+  for (const char* scheme : {"dis", "ais"}) {
+    ASSERT_TRUE(est.contains(scheme) && est[scheme].is_object()) << est.dump(2);
+    const std::vector<std::pair<const char*, std::size_t>> shapes{{"a", 2}, {"b", 2}, {"F", 6}, {"theta", 14}};
+    for (const auto& [key, size] : shapes) {
+      const json& values = est[scheme][key];
+      ASSERT_TRUE(values.is_array()) << scheme << "." << key;
+      EXPECT_EQ(values.size(), size) << scheme << "." << key;
+      for (const json& v : values) EXPECT_TRUE(v.is_number()) << scheme << "." << key;
+    }
+  }
+  const json truth_a = read_json("cfg.json").at("truth").at("a");
+  ASSERT_EQ(truth_a, json({1.0, 0.21}));
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(est["dis"]["a"][i].get<double>(), truth_a[i].get<double>(), 0.05) << "a" << i + 1;
+  }
+}
+
+TEST_F(Cli, FloatEstimatesMatchDouble) {
+  ASSERT_NO_FATAL_FAILURE(simulate(3));
+  const Outcome d = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "double.json"});
+  ASSERT_EQ(d.exit_code, 0) << d;
+  const Outcome f = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "float.json", "--float"});
+  ASSERT_EQ(f.exit_code, 0) << f;
+  const json in_double = read_json("double.json");
+  const json in_float = read_json("float.json");
+  for (const char* scheme : {"dis", "ais"}) {
+    for (const char* key : {"a", "b", "F", "theta"}) {
+      EXPECT_LT(relative_difference(in_float[scheme][key], in_double[scheme][key]), 1e-4) << scheme << "." << key;
+    }
+  }
+}
+
+// --- bad input: non-zero exit, and a message that names the file and the line or key ----------------------
+
+class CliBadInput : public Cli {
+ protected:
+  void SetUp() override {
+    Cli::SetUp();
+    ASSERT_NO_FATAL_FAILURE(simulate(3));
+  }
+  Outcome identify(const std::string& config, const std::string& data) const {
+    return run({"identify", "--config", config, "--data", data});
+  }
+};
+
+TEST_F(CliBadInput, RecordingRowErrorsNameFileAndLine) {
+  struct Case {
+    const char* what;
+    std::function<void(std::vector<std::string>&)> edit;
+    const char* message;
+  };
+  const std::vector<Case> cases{
+      {"NaN in y", [](auto& f) { f[3] = "nan"; }, "non-finite value 'nan'"},
+      {"non-numeric v", [](auto& f) { f[2] = "abc"; }, "column v: 'abc' is not a number"},
+      {"three columns", [](auto& f) { f.pop_back(); }, "expected 4 comma-separated fields"},
+      {"unknown phase", [](auto& f) { f[0] = "DIS"; }, "unknown phase 'DIS'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const int line = edit_row("rec.csv", "bad.csv", "dis,5,", c.edit);
+    const Outcome r = identify("cfg.json", "bad.csv");
+    EXPECT_NE(r.exit_code, 0) << r;
+    EXPECT_TRUE(Contains(r.err, std::string("bad.csv:") + std::to_string(line) + ":"));
+    EXPECT_TRUE(Contains(r.err, c.message));
+  }
+}
+
+TEST_F(CliBadInput, ConfigWithUnknownKey) {
+  json config = read_json("cfg.json");
+  config["v_mx"] = 4;
+  write_json("bad.json", config);
+  const Outcome r = identify("bad.json", "rec.csv");
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "bad.json"));
+  EXPECT_TRUE(Contains(r.err, "unknown key 'v_mx'"));
+}
+
+TEST_F(CliBadInput, ConfigLevelsThatDoNotMatchTheData) {
+  // V_d = [-3, -2, -1, 1, 2, 3]: move the level 1 to 0.5, so the first dis sample at v = 1 is off-design.
+  json config = read_json("cfg.json");
+  ASSERT_EQ(config.at("V_d").at(3), 1.0);
+  config["V_d"][3] = 0.5;
+  write_json("bad.json", config);
+  int first_off_design_t = -1;
+  std::istringstream rows(slurp(work_ / "rec.csv"));
+  for (std::string line; first_off_design_t < 0 && std::getline(rows, line);) {
+    if (!line.starts_with("dis,")) continue;
+    const auto t_end = line.find(',', 4);
+    const auto v_end = line.find(',', t_end + 1);
+    if (line.substr(t_end + 1, v_end - t_end - 1) == "1") first_off_design_t = std::stoi(line.substr(4, t_end - 4));
+  }
+  ASSERT_GE(first_off_design_t, 0) << "the dis phase never applies v = 1";
+
+  const Outcome r = identify("bad.json", "rec.csv");
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "rec.csv"));
+  EXPECT_TRUE(Contains(r.err, std::string("phase 'dis' t = ") + std::to_string(first_off_design_t) + ":"));
+  EXPECT_TRUE(Contains(r.err, "v = 1 "));
+}
+
+TEST_F(CliBadInput, MissingFiles) {
+  const Outcome no_data = identify("cfg.json", "missing.csv");
+  EXPECT_NE(no_data.exit_code, 0) << no_data;
+  EXPECT_TRUE(Contains(no_data.err, "missing.csv"));
+  const Outcome no_config = identify("missing.json", "rec.csv");
+  EXPECT_NE(no_config.exit_code, 0) << no_config;
+  EXPECT_TRUE(Contains(no_config.err, "missing.json"));
+}
+
+TEST_F(CliBadInput, JsonIntoMissingDirectoryFailsAndWritesNothing) {
+  const auto before = files_below(work_);
+  const Outcome r = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "nodir/est.json"});
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "nodir/est.json"));
+  // The estimates may have been printed already; the JSON must not exist, not even in part, nor any
+  // temporary file or the directory itself.
+  EXPECT_EQ(files_below(work_), before);
+  EXPECT_FALSE(fs::exists(work_ / "nodir"));
+}
+
+}  // namespace
