@@ -3,6 +3,8 @@
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -13,6 +15,7 @@
 #include "lashid/estimator/covariance_rls.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
+#include "lashid/estimator/symmetric_eigenvalues.hpp"
 #include "paper_examples.hpp"
 
 namespace {
@@ -105,6 +108,37 @@ TEST(LagrangeBasis, KroneckerPropertyAndPartitionOfUnity) {
   EXPECT_EQ(basis.classify(0.0), (LagrangeBasis<double, 6>::kZero));
   EXPECT_EQ(basis.classify(-5.0), 2);
   EXPECT_EQ(basis.classify(-4.0), (LagrangeBasis<double, 6>::kOffDesign));
+}
+
+TEST(SymmetricEigenvalues, MatchClosedFormAndEigensSolver) {
+  Eigen::Matrix2d A;
+  A << 2, 1, 1, 2;  // eigenvalues 1 and 3
+  const Eigen::Vector2d ev = symmetric_eigenvalues<double, 2>(A);
+  EXPECT_NEAR(ev(0), 1.0, 1e-15);
+  EXPECT_NEAR(ev(1), 3.0, 1e-15);
+  // Q diag(lambda) Q' with a random orthogonal Q and eigenvalues spread over 8 decades (cond 1e8).
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g;
+  Eigen::Matrix<double, 14, 14> X;
+  for (int i = 0; i < 14; ++i) {
+    for (int j = 0; j < 14; ++j) X(i, j) = g(rng);
+  }
+  const Eigen::Matrix<double, 14, 14> Q = X.householderQr().householderQ();
+  Eigen::Matrix<double, 14, 1> lambda;
+  for (int k = 0; k < 14; ++k) lambda(k) = std::pow(10.0, -8.0 + 8.0 * k / 13.0);
+  const Eigen::Matrix<double, 14, 14> S = Q * lambda.asDiagonal() * Q.transpose();
+  const auto jacobi = symmetric_eigenvalues<double, 14>(S);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 14, 14>> reference(S, Eigen::EigenvaluesOnly);
+  for (int k = 0; k < 14; ++k) {
+    EXPECT_NEAR(jacobi(k), lambda(k), 1e-14) << k;  // absolute accuracy ~ eps ||S||
+    EXPECT_NEAR(jacobi(k), reference.eigenvalues()(k), 1e-14) << k;
+  }
+  EXPECT_NEAR((reciprocal_condition_spd<double, 14>(S)), 1e-8, 1e-13);
+  Eigen::Matrix2d singular;
+  singular << 1, 1, 1, 1;
+  EXPECT_NEAR((reciprocal_condition_spd<double, 2>(singular)), 0.0, 1e-15);
+  singular(0, 0) = std::nan("");
+  EXPECT_EQ((reciprocal_condition_spd<double, 2>(singular)), 0.0);
 }
 
 TEST(StepMean, SkipsTheFirstSampleAndIsExactForAConstant) {

@@ -9,10 +9,10 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 
 #include "lashid/estimator/least_squares.hpp"
 #include "lashid/estimator/regressor.hpp"
+#include "lashid/estimator/symmetric_eigenvalues.hpp"
 
 namespace lashid::est {
 
@@ -58,9 +58,7 @@ class BatchLeastSquares {
     out.rows = rows_;
     if (rows_ <= static_cast<std::uint32_t>(kDim)) return out;
     const Matrix R = info_.template selfadjointView<Eigen::Upper>();
-    Eigen::SelfAdjointEigenSolver<Matrix> eig(R, Eigen::EigenvaluesOnly);
-    const Vector& ev = eig.eigenvalues();
-    out.rcond = ev(kDim - 1) > Scalar(0) ? std::fmax(ev(0), Scalar(0)) / ev(kDim - 1) : Scalar(0);
+    out.rcond = reciprocal_condition_spd<Scalar, kDim>(R);
     if (!(out.rcond >= Scalar(256) * Eigen::NumTraits<Scalar>::epsilon())) {
       out.status = Status::kIllConditioned;
       return out;
@@ -69,8 +67,11 @@ class BatchLeastSquares {
     out.theta = ldlt.solve(rhs_);
     const Scalar rss = std::fmax(yy_ - rhs_.dot(out.theta), Scalar(0));
     out.noise_variance = rss / static_cast<Scalar>(rows_ - static_cast<std::uint32_t>(kDim));
-    const Matrix R_inv = ldlt.solve(Matrix::Identity());
-    out.std_error = (out.noise_variance * R_inv.diagonal()).cwiseSqrt();
+    // Diagonal of R^-1 column by column (a matrix right-hand side would link malloc, see grouped_rls.hpp).
+    for (int k = 0; k < kDim; ++k) {
+      const Vector column = ldlt.solve(Vector::Unit(k));
+      out.std_error(k) = std::sqrt(out.noise_variance * column(k));
+    }
     out.status = out.theta.allFinite() ? Status::kOk : Status::kIllConditioned;
     return out;
   }

@@ -19,10 +19,10 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 
 #include "lashid/estimator/least_squares.hpp"
 #include "lashid/estimator/regressor.hpp"
+#include "lashid/estimator/symmetric_eigenvalues.hpp"
 
 namespace lashid::est {
 
@@ -150,7 +150,9 @@ class GroupedLeastSquares {
     } else {
       const Eigen::LDLT<NMat> ldlt(A);
       a = ldlt.solve(r);
-      A_inv = ldlt.solve(NMat::Identity());
+      // Column by column: a matrix right-hand side goes through Eigen's blocked triangular solver, which links
+      // malloc (its stack-or-heap workspace) even when it never calls it. The freestanding test checks this.
+      for (int k = 0; k < N; ++k) A_inv.col(k) = ldlt.solve(NVec::Unit(k));
     }
 
     const Scalar rss = std::fmax(full(N, N) - r.dot(a), Scalar(0));
@@ -174,19 +176,10 @@ class GroupedLeastSquares {
 
  private:
   static Scalar reciprocal_condition(const NMat& A) {
-    if (!A.allFinite()) return Scalar(0);
     if constexpr (N == 1) {
-      return A(0, 0) > Scalar(0) ? Scalar(1) : Scalar(0);
+      return A(0, 0) > Scalar(0) && std::isfinite(A(0, 0)) ? Scalar(1) : Scalar(0);
     } else {
-      Eigen::SelfAdjointEigenSolver<NMat> eig;
-      if constexpr (N <= 3) {
-        eig.computeDirect(A, Eigen::EigenvaluesOnly);
-      } else {
-        eig.compute(A, Eigen::EigenvaluesOnly);
-      }
-      const auto& ev = eig.eigenvalues();  // ascending
-      if (!(ev(N - 1) > Scalar(0))) return Scalar(0);
-      return std::fmax(ev(0), Scalar(0)) / ev(N - 1);
+      return reciprocal_condition_spd<Scalar, N>(A);
     }
   }
 
