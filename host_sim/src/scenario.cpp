@@ -115,17 +115,22 @@ std::vector<double> validation_input(double v_min, double v_max, int length, std
   return v;
 }
 
+ScenarioPlant::ScenarioPlant(const Scenario& scenario, std::uint64_t seed, double input_lag)
+    : operator_(scenario.make_operator()), plant_(scenario.model, scenario.noise_variance, seed) {
+  if (input_lag != 0.0) operator_ = std::make_unique<InputLagOperator>(std::move(operator_), input_lag);
+  operator_->reset(scenario.config.v_min, scenario.initial_output);
+}
+
+double ScenarioPlant::step(double v) { return plant_.step(operator_->step(v)); }
+
 Recording simulate(const Scenario& scenario, const SimulationOptions& options) {
   const ExperimentConfig& c = scenario.config;
-  std::unique_ptr<HysteresisOperator> op = scenario.make_operator();
-  if (options.input_lag != 0.0) op = std::make_unique<InputLagOperator>(std::move(op), options.input_lag);
-  op->reset(c.v_min, scenario.initial_output);
-  LinearPlant plant(scenario.model, scenario.noise_variance, options.seed);
+  ScenarioPlant plant(scenario, options.seed, options.input_lag);
   Recording rec;
   const auto run = [&](Phase phase, std::int64_t length, auto input) {
     for (std::int64_t t = 0; t < length; ++t) {
       const double v = input(t);
-      rec.append(phase, v, plant.step(op->step(v)));
+      rec.append(phase, v, plant.step(v));
     }
   };
   if (options.dis_phases) {

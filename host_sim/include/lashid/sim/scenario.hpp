@@ -46,6 +46,19 @@ struct SimulationOptions {
   bool validation_phase = true;
 };
 
+/// The scenario's actuator and plant, one sample at a time: v(t) -> [input lag] -> operator -> linear block + noise
+/// -> y(t). Starts from rest (y = 0, operator at (v_min, initial_output)). simulate(), the in-process firmware
+/// board and `lashid hil` all step the plant through this class, so they produce the same y for the same v and seed.
+class ScenarioPlant {
+ public:
+  ScenarioPlant(const Scenario& scenario, std::uint64_t seed, double input_lag = 0.0);
+  double step(double v);
+
+ private:
+  std::unique_ptr<HysteresisOperator> operator_;
+  LinearPlant plant_;
+};
+
 /// Simulates the phases of `options` continuously, from rest (y = 0, operator at (v_min, C_d(v_min))).
 /// Deterministic for a seed: the noise stream and the validation input use separate generators seeded from it.
 Recording simulate(const Scenario& scenario, const SimulationOptions& options);

@@ -1,0 +1,131 @@
+// Payloads of the firmware's reports over the link (hal/link_protocol.hpp), encoded by the firmware and decoded by
+// the host tool and the tests. Fixed-size records, no heap.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "lashid/hal/link_protocol.hpp"
+
+namespace lashid::fw {
+
+inline constexpr int kMaxRecordOrder = 8;
+inline constexpr int kMaxRecordPoints = 16;
+
+/// Stages of the identification sequence, as reported in kStatus.
+enum class Stage : std::uint8_t {
+  kIdle = 0,
+  kIntervalCheck,
+  kStepD,
+  kPulseD,
+  kStepA,
+  kPulseA,
+  kReport,
+  kDone,
+};
+
+/// Overall result of a run (kDone payload).
+enum class RunStatus : std::uint8_t {
+  kOk = 0,
+  kIntervalTooNarrow,  ///< Section 3.4 step 1: the output does not follow v_m <-> v_M (Fig. 5); enlarge it
+  kActuatorFault,      ///< the board rejected a command
+  kSensorFault,        ///< a measurement could not be obtained after retries
+  kEstimatorFailed,    ///< a scheme's estimate has a non-ok status (see its kEstimate record)
+  kStopped,            ///< stopped by command
+};
+
+/// One scheme's estimate (kEstimate). Arrays hold n (a, b and their standard errors) and m (F) entries.
+struct EstimateRecord {
+  std::uint8_t scheme = 0;  ///< 0 = DIS, 1 = AIS
+  std::uint8_t status = 0;  ///< est::Status
+  std::uint8_t n = 0;
+  std::uint8_t m = 0;
+  float ybar0 = 0;
+  float noise_variance = 0;
+  std::array<float, kMaxRecordOrder> a{}, se_a{}, b{}, se_b{};
+  std::array<float, kMaxRecordPoints> F{};
+
+  void encode(hal::link::PayloadWriter& w) const {
+    w.u8(scheme);
+    w.u8(status);
+    w.u8(n);
+    w.u8(m);
+    w.f32(ybar0);
+    w.f32(noise_variance);
+    for (int i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      w.f32(a[k]);
+      w.f32(se_a[k]);
+      w.f32(b[k]);
+      w.f32(se_b[k]);
+    }
+    for (int j = 0; j < m; ++j) w.f32(F[static_cast<std::size_t>(j)]);
+  }
+
+  bool decode(hal::link::PayloadReader r) {
+    scheme = r.u8();
+    status = r.u8();
+    n = r.u8();
+    m = r.u8();
+    if (n > kMaxRecordOrder || m > kMaxRecordPoints) return false;
+    ybar0 = r.f32();
+    noise_variance = r.f32();
+    for (int i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      a[k] = r.f32();
+      se_a[k] = r.f32();
+      b[k] = r.f32();
+      se_b[k] = r.f32();
+    }
+    for (int j = 0; j < m; ++j) F[static_cast<std::size_t>(j)] = r.f32();
+    return r.ok() && r.at_end();
+  }
+};
+
+/// Remark 3b (kCrossCheck): the DIS and AIS estimate the same linear subsystem; a disagreement beyond their
+/// uncertainty means the nonlinearity is not the assumed switch/backlash.
+struct CrossCheckRecord {
+  std::uint8_t disagree = 0;   ///< 1 if max_z exceeds the configured threshold
+  std::uint8_t worst = 0;      ///< index of the worst parameter: 0..n-1 = a_i, n..2n-1 = b_i
+  float max_z = 0;             ///< max |x_dis - x_ais| / sqrt(se_dis^2 + se_ais^2) over a and b
+  float threshold = 0;
+
+  void encode(hal::link::PayloadWriter& w) const {
+    w.u8(disagree);
+    w.u8(worst);
+    w.f32(max_z);
+    w.f32(threshold);
+  }
+  bool decode(hal::link::PayloadReader r) {
+    disagree = r.u8();
+    worst = r.u8();
+    max_z = r.f32();
+    threshold = r.f32();
+    return r.ok() && r.at_end();
+  }
+};
+
+/// Footprint and cost (kCost), in board cycles (SysTick on Cortex-M).
+struct CostRecord {
+  std::uint32_t update_cycles = 0;  ///< total over all estimator updates (add_pulse_sample)
+  std::uint32_t updates = 0;
+  std::uint32_t solve_cycles = 0;   ///< total over all estimate() calls (once per pulse period)
+  std::uint32_t solves = 0;
+  std::uint32_t samples = 0;        ///< samples exchanged with the plant
+  std::uint32_t link_errors = 0;    ///< frames dropped (checksum/length) or stale, on either port
+  std::uint32_t retries = 0;        ///< actuator/sensor exchanges repeated after a loss
+  std::uint32_t stack_bytes = 0;    ///< stack high-water mark (0 where the board cannot tell)
+
+  void encode(hal::link::PayloadWriter& w) const {
+    for (std::uint32_t x : {update_cycles, updates, solve_cycles, solves, samples, link_errors, retries, stack_bytes})
+      w.u32(x);
+  }
+  bool decode(hal::link::PayloadReader r) {
+    for (std::uint32_t* x : {&update_cycles, &updates, &solve_cycles, &solves, &samples, &link_errors, &retries,
+                             &stack_bytes})
+      *x = r.u32();
+    return r.ok() && r.at_end();
+  }
+};
+
+}  // namespace lashid::fw

@@ -1,0 +1,312 @@
+// The identification sequence as a state machine, one sample per step(), behind any hal::Board:
+//   [interval check, Section 3.4 step 1 (backlash)] -> DIS step experiment (3.4) -> DP pulse experiment (3.1) with
+//   the recursive estimator updated every sample and solved once per pulse period -> DIS estimate -> AIS step
+//   experiment (4.1) -> AP pulse experiment (4.2) -> AIS estimate -> cross-check of the two linear estimates
+//   (Remark 3b) -> reports over the link (estimates, cross-check, cost) -> done.
+// Commands over the link (hal/link_protocol.hpp): start, stop, query. Heap-free, no exceptions, float32.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "lashid/estimator/excitation.hpp"
+#include "lashid/estimator/identifier.hpp"
+#include "lashid/firmware/config.hpp"
+#include "lashid/firmware/messages.hpp"
+#include "lashid/hal/board.hpp"
+#include "lashid/hal/link_protocol.hpp"
+
+namespace lashid::fw {
+
+template <hal::Board B, FirmwareConfig C>
+class IdentificationSequencer {
+  static_assert(design_rules_hold<C>(), "the firmware configuration violates the paper's design rules");
+
+ public:
+  static constexpr int N = C::kOrder;
+  static constexpr int M = C::kPoints;
+  static constexpr int kPeriod = est::schedule::period(N, M);
+  /// Interval check: a square wave v_M / v_m of half-period kCheckHalf = 2T, kIntervalCheckPeriods periods. The
+  /// first period and the first half of every half-period are transient and not used: only settled samples count,
+  /// otherwise an oscillating transient inflates the variance and hides the difference.
+  static constexpr int kCheckHalf = 2 * kPeriod;
+  static constexpr int kIntervalCheckPeriods = 4;
+  static constexpr int kIntervalCheckSamples = 2 * kCheckHalf * kIntervalCheckPeriods;
+  using Identifier = est::SchemeIdentifier<float, N, M>;
+  using Estimate = typename Identifier::Estimate;
+  using Design = est::ExperimentDesign<float, M>;
+
+  /// auto_start: begin at once; otherwise wait in Stage::kIdle for a start command on the link.
+  explicit IdentificationSequencer(B& board, bool auto_start = true) : board_(board), started_(auto_start) {}
+
+  /// Runs to the end (or until stopped). Returns the overall status, also sent in the kDone frame.
+  RunStatus run() {
+    while (step()) {
+    }
+    return result_;
+  }
+
+  /// Does one unit of work (one sample in the experiments). False once the sequence is over.
+  bool step() {
+    poll_link();
+    switch (stage_) {
+      case Stage::kIdle:
+        if (started_) enter(C::kCheckInterval ? Stage::kIntervalCheck : Stage::kStepD);
+        return true;
+      case Stage::kIntervalCheck: return interval_check_sample();
+      case Stage::kStepD:
+      case Stage::kStepA: return step_sample();
+      case Stage::kPulseD:
+      case Stage::kPulseA: return pulse_sample();
+      case Stage::kReport:
+        report();
+        return false;
+      case Stage::kDone: return false;
+    }
+    return false;
+  }
+
+  Stage stage() const { return stage_; }
+  RunStatus result() const { return result_; }
+  const Estimate& dis() const { return dis_; }
+  const Estimate& ais() const { return ais_; }
+  const CrossCheckRecord& cross_check() const { return cross_; }
+  const CostRecord& cost() const { return cost_; }
+
+ private:
+  static Design design(est::Scheme scheme) {
+    Design d;
+    d.scheme = scheme;
+    d.v_min = C::kVMin;
+    d.v_max = C::kVMax;
+    const auto& V = scheme == est::Scheme::kDescending ? C::kVd : C::kVa;
+    for (int j = 0; j < M; ++j) d.V(j) = V[static_cast<std::size_t>(j)];
+    return d;
+  }
+
+  void enter(Stage next) {
+    stage_ = next;
+    t_ = 0;
+    if (next == Stage::kStepD || next == Stage::kStepA) {
+      const Design d = design(next == Stage::kStepD ? est::Scheme::kDescending : est::Scheme::kAscending);
+      (void)identifier_.configure(d);  // valid by design_rules_hold<C>()
+      generator_ = est::ExcitationGenerator<float, N, M>(d);
+    }
+  }
+
+  void finish(RunStatus status) {
+    result_ = status;
+    stage_ = Stage::kReport;
+  }
+
+  /// One plant exchange at the next sample instant. False (and the run is finished) on a board failure.
+  bool exchange(float v, float& y) {
+    if (board_.wait_for_sample_tick() == hal::Status::kTimeout) ++overruns_;
+    if (board_.actuate(v) != hal::Status::kOk) {
+      finish(RunStatus::kActuatorFault);
+      return false;
+    }
+    const hal::Status s = board_.measure(y);
+    if (s == hal::Status::kStopped) {
+      finish(RunStatus::kStopped);
+      return false;
+    }
+    if (s != hal::Status::kOk) {
+      finish(RunStatus::kSensorFault);
+      return false;
+    }
+    ++cost_.samples;
+    return true;
+  }
+
+  bool interval_check_sample() {
+    const bool high = (t_ / kCheckHalf) % 2 == 0;
+    float y = 0;
+    if (!exchange(high ? C::kVMax : C::kVMin, y)) return true;
+    if (t_ >= 2 * kCheckHalf && t_ % kCheckHalf >= kCheckHalf / 2) {
+      est::StepMean<float>& half = high ? high_ : low_;
+      (void)half.add(static_cast<std::int64_t>(half.count()) + 1, y);
+    }
+    if (++t_ < kIntervalCheckSamples) return true;
+    // Fig. 5 / Remark 1b: if the interval is too narrow the output stops following v after a cycle, so the mean
+    // output at v_M and at v_m coincide (up to noise). Require a difference beyond 6 standard errors.
+    const float spread = std::sqrt(high_.variance() / static_cast<float>(high_.count()) +
+                                   low_.variance() / static_cast<float>(low_.count()));
+    if (!(std::fabs(high_.mean() - low_.mean()) > 6.0f * spread)) {
+      finish(RunStatus::kIntervalTooNarrow);
+    } else {
+      enter(Stage::kStepD);
+    }
+    return true;
+  }
+
+  bool step_sample() {
+    const float v = generator_.step_input(t_);
+    float y = 0;
+    if (!exchange(v, y)) return true;
+    (void)identifier_.add_step_sample(v, y);  // on the design by construction; a NaN y is reported by estimate()
+    if (++t_ > C::kStepLength) enter(stage_ == Stage::kStepD ? Stage::kPulseD : Stage::kPulseA);
+    return true;
+  }
+
+  bool pulse_sample() {
+    const float v = generator_.pulse_input(t_);
+    float y = 0;
+    if (!exchange(v, y)) return true;
+    const std::uint32_t start = board_.cycles();
+    (void)identifier_.add_pulse_sample(v, y);
+    cost_.update_cycles += board_.cycles() - start;
+    ++cost_.updates;
+    ++t_;
+    const bool dis = stage_ == Stage::kPulseD;
+    const int length = dis ? C::kPulseLengthD : C::kPulseLengthA;
+    if (t_ % kPeriod == 0 || t_ == length) {  // an up-to-date estimate at least once per pulse period
+      const std::uint32_t solve_start = board_.cycles();
+      latest_ = identifier_.estimate();
+      cost_.solve_cycles += board_.cycles() - solve_start;
+      ++cost_.solves;
+    }
+    if (t_ == length) {
+      (dis ? dis_ : ais_) = latest_;
+      if (dis) {
+        enter(Stage::kStepA);
+      } else {
+        const bool ok = dis_.status == est::Status::kOk && ais_.status == est::Status::kOk;
+        finish(ok ? RunStatus::kOk : RunStatus::kEstimatorFailed);
+      }
+    }
+    return true;
+  }
+
+  // Remark 3b: both schemes estimate a and b; compare them in units of their combined standard error.
+  // se(b_i) = |W_1| se(mu_i1), and |W_1| = v_M - v_m in both schemes.
+  void compute_cross_check() {
+    cross_.threshold = C::kCrossCheckSigmas;
+    if (dis_.status != est::Status::kOk || ais_.status != est::Status::kOk) {
+      cross_.max_z = -1.0f;  // not available
+      return;
+    }
+    const float w1 = C::kVMax - C::kVMin;
+    for (int k = 0; k < 2 * N; ++k) {
+      const bool is_a = k < N;
+      const int i = is_a ? k : k - N;
+      const float xd = is_a ? dis_.a(i) : dis_.b(i);
+      const float xa = is_a ? ais_.a(i) : ais_.b(i);
+      const float sd = is_a ? dis_.ls.std_error(i) : w1 * dis_.ls.std_error(N + i);
+      const float sa = is_a ? ais_.ls.std_error(i) : w1 * ais_.ls.std_error(N + i);
+      const float z = std::fabs(xd - xa) / std::sqrt(sd * sd + sa * sa);
+      if (z > cross_.max_z) {
+        cross_.max_z = z;
+        cross_.worst = static_cast<std::uint8_t>(k);
+      }
+    }
+    cross_.disagree = cross_.max_z > cross_.threshold ? 1 : 0;
+  }
+
+  static EstimateRecord record(const Estimate& e, std::uint8_t scheme) {
+    EstimateRecord r;
+    r.scheme = scheme;
+    r.status = static_cast<std::uint8_t>(e.status);
+    r.n = N;
+    r.m = M;
+    r.ybar0 = e.ybar0;
+    r.noise_variance = e.ls.noise_variance;
+    const float w1 = C::kVMax - C::kVMin;
+    for (int i = 0; i < N; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      r.a[k] = e.a(i);
+      r.se_a[k] = e.ls.std_error(i);
+      r.b[k] = e.b(i);
+      r.se_b[k] = w1 * e.ls.std_error(N + i);
+    }
+    for (int j = 0; j < M; ++j) r.F[static_cast<std::size_t>(j)] = e.F(j);
+    return r;
+  }
+
+  void report() {
+    compute_cross_check();
+    // Optional board extensions (a board that cannot tell simply lacks the member).
+    if constexpr (requires { board_.stack_high_water_bytes(); }) {
+      cost_.stack_bytes = static_cast<std::uint32_t>(board_.stack_high_water_bytes());
+    }
+    if constexpr (requires { board_.exchange_errors(); board_.exchange_retries(); }) {
+      cost_.link_errors += static_cast<std::uint32_t>(board_.exchange_errors());
+      cost_.retries = static_cast<std::uint32_t>(board_.exchange_retries());
+    }
+    // Both records always go out; a scheme that never ran reports status kNotExcited.
+    hal::link::PayloadWriter w;
+    record(dis_, 0).encode(w);
+    send(hal::link::MessageType::kEstimate, w);
+    hal::link::PayloadWriter wa;
+    record(ais_, 1).encode(wa);
+    send(hal::link::MessageType::kEstimate, wa);
+    hal::link::PayloadWriter wc;
+    cross_.encode(wc);
+    send(hal::link::MessageType::kCrossCheck, wc);
+    hal::link::PayloadWriter wk;
+    cost_.encode(wk);
+    send(hal::link::MessageType::kCost, wk);
+    hal::link::PayloadWriter wd;
+    wd.u8(static_cast<std::uint8_t>(result_));
+    send(hal::link::MessageType::kDone, wd);
+    stage_ = Stage::kDone;
+  }
+
+  void send(hal::link::MessageType type, const hal::link::PayloadWriter& w) {
+    std::uint8_t frame[hal::link::kMaxFrame];
+    const std::size_t size = hal::link::encode_frame(type, seq_++, w.data(), w.size(), frame);
+    if (size == 0 || board_.link_write(frame, size) != hal::Status::kOk) ++cost_.link_errors;
+  }
+
+  void poll_link() {
+    std::uint8_t byte = 0;
+    for (;;) {
+      const hal::Status s = board_.link_read(byte);
+      if (s == hal::Status::kWouldBlock) return;
+      if (s != hal::Status::kOk) {
+        ++cost_.link_errors;
+        continue;
+      }
+      const auto r = decoder_.push(byte);
+      if (r == hal::link::FrameDecoder::Result::kDropped) ++cost_.link_errors;
+      if (r != hal::link::FrameDecoder::Result::kFrame) continue;
+      const auto& f = decoder_.frame();
+      if (f.type != hal::link::MessageType::kCommand || f.size != 1) continue;
+      switch (static_cast<hal::link::Command>(f.payload[0])) {
+        case hal::link::Command::kStart: started_ = true; break;
+        case hal::link::Command::kStop:
+          if (stage_ != Stage::kDone && stage_ != Stage::kReport) finish(RunStatus::kStopped);
+          break;
+        case hal::link::Command::kQuery: {
+          hal::link::PayloadWriter w;
+          w.u8(static_cast<std::uint8_t>(stage_));
+          w.u32(cost_.samples);
+          w.u32(cost_.link_errors);
+          send(hal::link::MessageType::kStatus, w);
+          break;
+        }
+      }
+    }
+  }
+
+  B& board_;
+  bool started_;
+  Stage stage_ = Stage::kIdle;
+  RunStatus result_ = RunStatus::kOk;
+  std::int64_t t_ = 0;
+  std::uint8_t seq_ = 0;
+  std::uint32_t overruns_ = 0;
+  Identifier identifier_{};
+  est::ExcitationGenerator<float, N, M> generator_{design(est::Scheme::kDescending)};
+  Estimate latest_{};
+  Estimate dis_{};
+  Estimate ais_{};
+  est::StepMean<float> high_{};
+  est::StepMean<float> low_{};
+  CrossCheckRecord cross_{};
+  CostRecord cost_{};
+  hal::link::FrameDecoder decoder_{};
+};
+
+}  // namespace lashid::fw

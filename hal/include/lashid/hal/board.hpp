@@ -1,0 +1,39 @@
+// The firmware's only door to hardware, as a C++20 concept: the same firmware code builds against the host board
+// (in-process simulator) and the Cortex-M boards (QEMU mps2), with no virtual calls. A board is chosen with
+//   static_assert(lashid::hal::Board<MyBoard>);
+#pragma once
+
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+
+#include "lashid/hal/status.hpp"
+
+namespace lashid::hal {
+
+template <class B>
+concept Board = requires(B& board, const B& const_board, float v, float& y, std::uint8_t& byte,
+                         const std::uint8_t* data, std::size_t size) {
+  /// Applies the actuator command v(t) of the current sample.
+  /// kOk; kOutOfRange (outside the actuator's range: not applied); kLinkError / kTimeout (remote actuator).
+  { board.actuate(v) } -> std::same_as<Status>;
+
+  /// Measures the output y(t) of the current sample (after actuate()).
+  /// kOk; kSensorFault (no valid value: y is left unchanged); kTimeout; kStopped.
+  { board.measure(y) } -> std::same_as<Status>;
+
+  /// Sample clock: returns at the next sample instant.
+  /// kOk; kTimeout when the previous sample overran its period (the sample is late, not skipped).
+  { board.wait_for_sample_tick() } -> std::same_as<Status>;
+
+  /// Byte link for commands and reports: writes all `size` bytes. kOk; kLinkError; kTimeout.
+  { board.link_write(data, size) } -> std::same_as<Status>;
+
+  /// Byte link, non-blocking read of one byte. kOk; kWouldBlock (none pending); kLinkError (overrun: bytes lost).
+  { board.link_read(byte) } -> std::same_as<Status>;
+
+  /// Monotonic cycle/tick counter, wrapping at 2^32 (differences are valid across one wrap).
+  { const_board.cycles() } -> std::same_as<std::uint32_t>;
+};
+
+}  // namespace lashid::hal

@@ -1,0 +1,216 @@
+// Framed, checksummed messages over a byte link (the emulated UART between the firmware and `lashid hil`, or any
+// serial line). Header-only, heap-free, no exceptions; the firmware and the host tool share this file.
+//
+// Frame:  0xA5 0x5A | type | seq | len | payload[len] | crc16 (lo, hi)
+//   crc16 = CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection) over type, seq, len and the payload.
+//   Multi-byte payload fields are little-endian; floats are IEEE-754 binary32.
+// A frame whose checksum or length is wrong is dropped and counted, never delivered: the decoder resynchronises
+// on the next 0xA5 0x5A. Lost frames are detected by the sample exchange (t must match, see RemotePlantPort).
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+
+namespace lashid::hal::link {
+
+inline constexpr std::uint8_t kSync0 = 0xA5;
+inline constexpr std::uint8_t kSync1 = 0x5A;
+inline constexpr std::size_t kMaxPayload = 128;
+inline constexpr std::size_t kOverhead = 7;  // 2 sync + type + seq + len + 2 crc
+inline constexpr std::size_t kMaxFrame = kMaxPayload + kOverhead;
+
+enum class MessageType : std::uint8_t {
+  kActuate = 0x01,      ///< firmware -> host: u32 t, f32 v. "Apply v at sample t and measure."
+  kMeasurement = 0x02,  ///< host -> firmware: u32 t, f32 y. The answer to kActuate with the same t.
+  kCommand = 0x10,      ///< host -> firmware: u8 Command
+  kStatus = 0x11,       ///< firmware -> host: u8 stage, u32 samples done, u32 link errors
+  kEstimate = 0x20,     ///< firmware -> host: one scheme's estimate (EstimateRecord)
+  kCrossCheck = 0x21,   ///< firmware -> host: Remark 3b cross-check (CrossCheckRecord)
+  kCost = 0x22,         ///< firmware -> host: footprint and cost (CostRecord)
+  kLog = 0x30,          ///< firmware -> host: text
+  kDone = 0x3F,         ///< firmware -> host: u8 overall status (0 = ok); the run is over
+};
+
+enum class Command : std::uint8_t { kStart = 1, kStop = 2, kQuery = 3 };
+
+/// CRC-16/CCITT-FALSE, bitwise (small code; a table would cost 512 bytes of flash for no measurable gain here).
+constexpr std::uint16_t crc16(std::uint16_t crc, std::uint8_t byte) {
+  crc = static_cast<std::uint16_t>(crc ^ static_cast<std::uint16_t>(byte << 8));
+  for (int bit = 0; bit < 8; ++bit) {
+    crc = (crc & 0x8000U) != 0 ? static_cast<std::uint16_t>((crc << 1) ^ 0x1021U) : static_cast<std::uint16_t>(crc << 1);
+  }
+  return crc;
+}
+static_assert(crc16(crc16(crc16(crc16(crc16(crc16(crc16(crc16(crc16(0xFFFF, '1'), '2'), '3'), '4'), '5'), '6'), '7'),
+                                '8'),
+                          '9') == 0x29B1,
+              "CRC-16/CCITT-FALSE check value");
+
+/// Little-endian payload writer over a fixed buffer; overflow sets ok() false instead of writing past the end.
+class PayloadWriter {
+ public:
+  void u8(std::uint8_t x) { put(x); }
+  void u16(std::uint16_t x) {
+    put(static_cast<std::uint8_t>(x));
+    put(static_cast<std::uint8_t>(x >> 8));
+  }
+  void u32(std::uint32_t x) {
+    for (int shift = 0; shift < 32; shift += 8) put(static_cast<std::uint8_t>(x >> shift));
+  }
+  void f32(float x) { u32(std::bit_cast<std::uint32_t>(x)); }
+  bool ok() const { return ok_; }
+  std::size_t size() const { return size_; }
+  const std::uint8_t* data() const { return bytes_.data(); }
+
+ private:
+  void put(std::uint8_t x) {
+    if (size_ >= kMaxPayload) {
+      ok_ = false;
+      return;
+    }
+    bytes_[size_++] = x;
+  }
+  std::array<std::uint8_t, kMaxPayload> bytes_{};
+  std::size_t size_ = 0;
+  bool ok_ = true;
+};
+
+/// Little-endian payload reader; reading past the end sets ok() false and yields zeros.
+class PayloadReader {
+ public:
+  PayloadReader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  std::uint8_t u8() { return get(); }
+  std::uint16_t u16() {
+    const std::uint16_t lo = get();
+    return static_cast<std::uint16_t>(lo | static_cast<std::uint16_t>(get() << 8));
+  }
+  std::uint32_t u32() {
+    std::uint32_t x = 0;
+    for (int shift = 0; shift < 32; shift += 8) x |= static_cast<std::uint32_t>(get()) << shift;
+    return x;
+  }
+  float f32() { return std::bit_cast<float>(u32()); }
+  bool ok() const { return ok_; }
+  bool at_end() const { return pos_ == size_; }
+
+ private:
+  std::uint8_t get() {
+    if (pos_ >= size_) {
+      ok_ = false;
+      return 0;
+    }
+    return data_[pos_++];
+  }
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+  bool ok_ = true;
+};
+
+/// Serialises one frame into `out` (at least kOverhead + payload size bytes); returns the frame length, 0 if the
+/// payload is too long.
+inline std::size_t encode_frame(MessageType type, std::uint8_t seq, const std::uint8_t* payload,
+                                std::size_t payload_size, std::uint8_t* out) {
+  if (payload_size > kMaxPayload) return 0;
+  out[0] = kSync0;
+  out[1] = kSync1;
+  out[2] = static_cast<std::uint8_t>(type);
+  out[3] = seq;
+  out[4] = static_cast<std::uint8_t>(payload_size);
+  std::uint16_t crc = 0xFFFF;
+  for (std::size_t i = 2; i < 5; ++i) crc = crc16(crc, out[i]);
+  for (std::size_t i = 0; i < payload_size; ++i) {
+    out[5 + i] = payload[i];
+    crc = crc16(crc, payload[i]);
+  }
+  out[5 + payload_size] = static_cast<std::uint8_t>(crc);
+  out[6 + payload_size] = static_cast<std::uint8_t>(crc >> 8);
+  return payload_size + kOverhead;
+}
+
+struct Frame {
+  MessageType type = MessageType::kLog;
+  std::uint8_t seq = 0;
+  std::uint8_t size = 0;
+  std::array<std::uint8_t, kMaxPayload> payload{};
+  PayloadReader reader() const { return PayloadReader(payload.data(), size); }
+};
+
+/// Byte-by-byte frame decoder with error counters.
+class FrameDecoder {
+ public:
+  enum class Result : std::uint8_t { kNeedMore, kFrame, kDropped };
+
+  /// Feeds one byte. kFrame: frame() holds a complete, checksum-verified frame. kDropped: a damaged frame was
+  /// discarded (counted in crc_errors() or length_errors()).
+  Result push(std::uint8_t byte) {
+    switch (state_) {
+      case State::kHunt0:
+        if (byte == kSync0) state_ = State::kHunt1;
+        return Result::kNeedMore;
+      case State::kHunt1:
+        state_ = byte == kSync1 ? State::kType : (byte == kSync0 ? State::kHunt1 : State::kHunt0);
+        return Result::kNeedMore;
+      case State::kType:
+        frame_.type = static_cast<MessageType>(byte);
+        crc_ = crc16(0xFFFF, byte);
+        state_ = State::kSeq;
+        return Result::kNeedMore;
+      case State::kSeq:
+        frame_.seq = byte;
+        crc_ = crc16(crc_, byte);
+        state_ = State::kLength;
+        return Result::kNeedMore;
+      case State::kLength:
+        if (byte > kMaxPayload) {
+          ++length_errors_;
+          state_ = State::kHunt0;
+          return Result::kDropped;
+        }
+        frame_.size = byte;
+        crc_ = crc16(crc_, byte);
+        received_ = 0;
+        state_ = byte == 0 ? State::kCrcLo : State::kPayload;
+        return Result::kNeedMore;
+      case State::kPayload:
+        frame_.payload[received_++] = byte;
+        crc_ = crc16(crc_, byte);
+        if (received_ == frame_.size) state_ = State::kCrcLo;
+        return Result::kNeedMore;
+      case State::kCrcLo:
+        crc_lo_ = byte;
+        state_ = State::kCrcHi;
+        return Result::kNeedMore;
+      case State::kCrcHi:
+        state_ = State::kHunt0;
+        if (static_cast<std::uint16_t>(crc_lo_ | (byte << 8)) != crc_) {
+          ++crc_errors_;
+          return Result::kDropped;
+        }
+        ++frames_;
+        return Result::kFrame;
+    }
+    return Result::kNeedMore;
+  }
+
+  const Frame& frame() const { return frame_; }
+  std::uint32_t frames() const { return frames_; }
+  std::uint32_t crc_errors() const { return crc_errors_; }
+  std::uint32_t length_errors() const { return length_errors_; }
+  std::uint32_t errors() const { return crc_errors_ + length_errors_; }
+
+ private:
+  enum class State : std::uint8_t { kHunt0, kHunt1, kType, kSeq, kLength, kPayload, kCrcLo, kCrcHi };
+  State state_ = State::kHunt0;
+  Frame frame_{};
+  std::size_t received_ = 0;
+  std::uint16_t crc_ = 0xFFFF;
+  std::uint8_t crc_lo_ = 0;
+  std::uint32_t frames_ = 0;
+  std::uint32_t crc_errors_ = 0;
+  std::uint32_t length_errors_ = 0;
+};
+
+}  // namespace lashid::hal::link

@@ -1,0 +1,271 @@
+// The identification firmware on the host board: same code as on Cortex-M, plant in-process.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "lashid/firmware/paper_configs.hpp"
+#include "lashid/firmware/sequencer.hpp"
+#include "lashid/hal/host_board.hpp"
+#include "lashid/hal/remote_plant_port.hpp"
+#include "lashid/sim/identify.hpp"
+#include "lashid/sim/scenario.hpp"
+
+namespace {
+
+using namespace lashid;
+using hal::link::MessageType;
+
+// Decodes every frame the firmware wrote to the link.
+std::vector<hal::link::Frame> frames_of(const std::vector<std::uint8_t>& bytes, std::uint32_t* errors = nullptr) {
+  hal::link::FrameDecoder decoder;
+  std::vector<hal::link::Frame> frames;
+  for (std::uint8_t b : bytes) {
+    if (decoder.push(b) == hal::link::FrameDecoder::Result::kFrame) frames.push_back(decoder.frame());
+  }
+  if (errors != nullptr) *errors = decoder.errors();
+  return frames;
+}
+
+struct Reports {
+  std::vector<fw::EstimateRecord> estimates;
+  fw::CrossCheckRecord cross;
+  fw::CostRecord cost;
+  int done = -1;
+};
+
+Reports reports_of(const hal::HostBoard& board) {
+  std::uint32_t errors = 0;
+  Reports r;
+  for (const auto& f : frames_of(board.link_output(), &errors)) {
+    if (f.type == MessageType::kEstimate) {
+      fw::EstimateRecord e;
+      EXPECT_TRUE(e.decode(f.reader()));
+      r.estimates.push_back(e);
+    } else if (f.type == MessageType::kCrossCheck) {
+      EXPECT_TRUE(r.cross.decode(f.reader()));
+    } else if (f.type == MessageType::kCost) {
+      EXPECT_TRUE(r.cost.decode(f.reader()));
+    } else if (f.type == MessageType::kDone) {
+      r.done = f.payload[0];
+    }
+  }
+  EXPECT_EQ(errors, 0u);
+  return r;
+}
+
+TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
+  // AIS example (switch: no interval check), so the firmware's samples are exactly simulate()'s phases.
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  hal::HostBoard board(s, 7);
+  fw::IdentificationSequencer<hal::HostBoard, fw::AisPaperConfig> firmware(board);
+  ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
+
+  sim::SimulationOptions options;
+  options.seed = 7;
+  options.validation_phase = false;
+  const sim::Recording rec = sim::simulate(s, options);
+  // Same excitation, sample for sample: the firmware's generator and the simulator's.
+  ASSERT_EQ(board.exchanges().size(), rec.size());
+  std::size_t k = 0;
+  for (const sim::Phase p : rec.order()) {
+    for (const sim::Sample& x : rec.phase(p)) {
+      ASSERT_EQ(board.exchanges()[k].v, static_cast<float>(x.v)) << "sample " << k;
+      ASSERT_EQ(board.exchanges()[k].y, static_cast<float>(x.y)) << "sample " << k;
+      ++k;
+    }
+  }
+  sim::IdentifyOptions f32;
+  f32.precision = sim::Precision::kFloat;
+  const Reports r = reports_of(board);
+  ASSERT_EQ(r.estimates.size(), 2u);
+  EXPECT_EQ(r.done, static_cast<int>(fw::RunStatus::kOk));
+  for (const auto& e : r.estimates) {
+    const auto scheme = e.scheme == 0 ? est::Scheme::kDescending : est::Scheme::kAscending;
+    const sim::SchemeResult cli = sim::identify_scheme(s.config, rec, scheme, f32, "rec");
+    EXPECT_EQ(e.status, static_cast<int>(est::Status::kOk));
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_FLOAT_EQ(e.a[i], static_cast<float>(cli.a[i]));
+      EXPECT_FLOAT_EQ(e.b[i], static_cast<float>(cli.b[i]));
+    }
+    for (std::size_t j = 0; j < 6; ++j) EXPECT_FLOAT_EQ(e.F[j], static_cast<float>(cli.F[j]));
+    EXPECT_FLOAT_EQ(e.ybar0, static_cast<float>(cli.ybar0));
+  }
+  // Remark 3b on a plant that is what the model says: the DIS and AIS linear estimates agree.
+  EXPECT_EQ(r.cross.disagree, 0) << "max z " << r.cross.max_z;
+  EXPECT_GT(r.cross.max_z, 0.0f);
+  // Cost: one update per pulse sample, one solve per pulse period (and at the end).
+  EXPECT_EQ(r.cost.updates, 16000u);
+  EXPECT_EQ(r.cost.solves, 2u * ((8000 + 17) / 18));
+  EXPECT_EQ(r.cost.samples, 2u * 2001 + 16000);
+}
+
+TEST(FirmwareOnHostBoard, DisExampleWithIntervalCheckIdentifiesTheBacklash) {
+  const sim::Scenario& s = sim::find_scenario("dis_paper");
+  hal::HostBoard board(s, 3);
+  fw::IdentificationSequencer<hal::HostBoard, fw::DisPaperConfig> firmware(board);
+  ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
+  const Reports r = reports_of(board);
+  ASSERT_EQ(r.estimates.size(), 2u);
+  const auto& truth = *s.config.truth;
+  for (const auto& e : r.estimates) {
+    EXPECT_NEAR(e.a[0], truth.a[0], 4 * e.se_a[0]);
+    EXPECT_NEAR(e.b[0], truth.b[0], 4 * e.se_b[0]);
+    const auto& F = e.scheme == 0 ? truth.F_d : truth.F_a;
+    for (std::size_t j = 0; j < 6; ++j) EXPECT_NEAR(e.F[j], F[j], 0.1) << "scheme " << int(e.scheme) << " j " << j;
+  }
+  EXPECT_EQ(r.cross.disagree, 0) << "max z " << r.cross.max_z;
+  // The interval check (4 periods of 2 x 36 samples) ran before the DIS step experiment.
+  EXPECT_EQ(r.cost.samples, 4u * 72 + 2 * 2001 + 2 * 2000);
+}
+
+// Fig. 5: a backlash whose play is wider than the interval freezes after one cycle; the firmware must refuse.
+struct NarrowIntervalConfig : fw::DisPaperConfig {
+  static constexpr float kVMin = -0.5f;
+  static constexpr float kVMax = 0.5f;
+  static constexpr std::array<float, 6> kVd{-0.5f, -0.3f, -0.1f, 0.1f, 0.2f, 0.3f};
+  static constexpr std::array<float, 6> kVa{0.5f, 0.3f, 0.1f, -0.1f, -0.2f, -0.3f};
+};
+
+TEST(FirmwareOnHostBoard, RefusesAnIntervalTooNarrowForTheBacklash) {
+  sim::Scenario s = sim::find_scenario("dis_paper");
+  s.config.v_min = -0.5;
+  s.config.v_max = 0.5;
+  s.initial_output = -1.5;  // start on the ascendent border C_a(v) = v - 1 at v_min
+  s.make_operator = [] {
+    return std::make_unique<sim::BacklashOperator>(sim::Border::from_table({{-0.5, -1.5}, {0.5, -0.5}}),
+                                                   sim::Border::from_table({{-0.5, 0.5}, {0.5, 1.5}}));
+  };
+  s.noise_variance = 1.0;
+  hal::HostBoard board(s, 1);
+  fw::IdentificationSequencer<hal::HostBoard, NarrowIntervalConfig> firmware(board);
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kIntervalTooNarrow);
+  EXPECT_EQ(reports_of(board).done, static_cast<int>(fw::RunStatus::kIntervalTooNarrow));
+  EXPECT_EQ(board.exchanges().size(), 4u * 72);  // it stopped after the check
+}
+
+TEST(FirmwareOnHostBoard, CrossCheckFlagsAPlantThatIsNotSwitchOrBacklash) {
+  // Remark 3b: with first-order dynamics before the switch (lambda = 0.6), the operator seen by the experiments
+  // is no longer a switch, and the two schemes estimate different linear parts.
+  sim::Scenario s = sim::find_scenario("ais_paper");
+  const auto inner = s.make_operator;
+  s.make_operator = [inner] { return std::make_unique<sim::InputLagOperator>(inner(), 0.6); };
+  hal::HostBoard board(s, 1);
+  fw::IdentificationSequencer<hal::HostBoard, fw::AisPaperConfig> firmware(board);
+  (void)firmware.run();
+  const Reports r = reports_of(board);
+  EXPECT_EQ(r.cross.disagree, 1) << "max z " << r.cross.max_z;
+}
+
+std::vector<std::uint8_t> command(hal::link::Command c) {
+  const std::uint8_t payload = static_cast<std::uint8_t>(c);
+  std::vector<std::uint8_t> frame(hal::link::kMaxFrame);
+  frame.resize(hal::link::encode_frame(MessageType::kCommand, 0, &payload, 1, frame.data()));
+  return frame;
+}
+
+TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  hal::HostBoard board(s, 1);
+  fw::IdentificationSequencer<hal::HostBoard, fw::AisPaperConfig> firmware(board, /*auto_start=*/false);
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(firmware.step());
+  EXPECT_EQ(firmware.stage(), fw::Stage::kIdle);
+  EXPECT_TRUE(board.exchanges().empty());
+  const auto query = command(hal::link::Command::kQuery);
+  board.link_input(query.data(), query.size());
+  ASSERT_TRUE(firmware.step());
+  auto frames = frames_of(board.link_output());
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, MessageType::kStatus);
+  EXPECT_EQ(frames[0].payload[0], static_cast<std::uint8_t>(fw::Stage::kIdle));
+
+  const auto start = command(hal::link::Command::kStart);
+  board.link_input(start.data(), start.size());
+  for (int i = 0; i < 500; ++i) ASSERT_TRUE(firmware.step());
+  EXPECT_EQ(firmware.stage(), fw::Stage::kStepD);
+  const auto stop = command(hal::link::Command::kStop);
+  board.link_input(stop.data(), stop.size());
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kStopped);
+  EXPECT_LT(board.exchanges().size(), 600u);
+  EXPECT_EQ(reports_of(board).done, static_cast<int>(fw::RunStatus::kStopped));
+}
+
+// A byte channel with a peer that answers kActuate(t, v) by kMeasurement(t, 2v + t), damaging some answers.
+class FaultyPeerChannel {
+ public:
+  enum class Fault { kNone, kCorrupt, kDrop, kStaleThenGood };
+  explicit FaultyPeerChannel(std::vector<Fault> faults) : faults_(std::move(faults)) {}
+
+  hal::Status write(const std::uint8_t* data, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) {
+      if (decoder_.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
+      auto r = decoder_.frame().reader();
+      const std::uint32_t t = r.u32();
+      const float v = r.f32();
+      const Fault fault = requests_ < faults_.size() ? faults_[requests_] : Fault::kNone;
+      ++requests_;
+      if (fault == Fault::kDrop) continue;
+      if (fault == Fault::kStaleThenGood) answer(t - 1, 99.0f, false);
+      answer(t, 2 * v + static_cast<float>(t), fault == Fault::kCorrupt);
+    }
+    return hal::Status::kOk;
+  }
+  hal::Status read(std::uint8_t& byte) {
+    ++clock_;
+    if (pending_.empty()) return hal::Status::kWouldBlock;
+    byte = pending_.front();
+    pending_.pop_front();
+    return hal::Status::kOk;
+  }
+  std::uint32_t cycles() const { return clock_; }
+
+ private:
+  void answer(std::uint32_t t, float y, bool corrupt) {
+    hal::link::PayloadWriter w;
+    w.u32(t);
+    w.f32(y);
+    std::uint8_t frame[hal::link::kMaxFrame];
+    const std::size_t n = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
+    if (corrupt) frame[7] ^= 0x10;  // one bit of y
+    pending_.insert(pending_.end(), frame, frame + n);
+  }
+  std::vector<Fault> faults_;
+  std::size_t requests_ = 0;
+  hal::link::FrameDecoder decoder_;
+  std::deque<std::uint8_t> pending_;
+  std::uint32_t clock_ = 0;
+};
+
+TEST(RemotePlantPort, DetectsCountsAndRecoversFromDamagedLostAndStaleFrames) {
+  using F = FaultyPeerChannel::Fault;
+  // Request 0 ok; request 1 corrupted (then resent ok); request 3 dropped (timeout, resent); request 5 preceded
+  // by a stale answer for t - 1.
+  FaultyPeerChannel channel({F::kNone, F::kCorrupt, F::kNone, F::kDrop, F::kNone, F::kStaleThenGood});
+  static_assert(hal::ByteChannel<FaultyPeerChannel>);
+  hal::RemotePlantPort<FaultyPeerChannel> port(channel, /*timeout_cycles=*/1000, /*max_retries=*/2);
+  for (std::uint32_t t = 0; t < 4; ++t) {
+    const float v = 0.5f * static_cast<float>(t);
+    ASSERT_EQ(port.actuate(v), hal::Status::kOk);
+    float y = -1;
+    ASSERT_EQ(port.measure(y), hal::Status::kOk) << "t = " << t;
+    EXPECT_EQ(y, 2 * v + static_cast<float>(t)) << "t = " << t;  // never the corrupted or stale value
+  }
+  EXPECT_EQ(port.retries(), 2u);  // the corrupted and the dropped answer
+  EXPECT_EQ(port.errors(), 2u);   // one checksum failure, one stale answer
+}
+
+TEST(RemotePlantPort, GivesUpWithASensorFaultAfterTheRetries) {
+  using F = FaultyPeerChannel::Fault;
+  FaultyPeerChannel channel({F::kDrop, F::kDrop, F::kDrop});
+  hal::RemotePlantPort<FaultyPeerChannel> port(channel, 100, 2);
+  ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
+  float y = 42;
+  EXPECT_EQ(port.measure(y), hal::Status::kSensorFault);
+  EXPECT_EQ(y, 42);  // untouched
+  EXPECT_EQ(port.retries(), 2u);
+}
+
+}  // namespace
