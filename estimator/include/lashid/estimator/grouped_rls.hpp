@@ -52,7 +52,12 @@ class GroupedLeastSquares {
       const Scalar inv = Scalar(1) / static_cast<Scalar>(count);
       mean += delta * inv;
       // z - mean_new = delta (count-1)/count, so the Welford term delta (z - mean_new)' is a symmetric rank-1 update.
-      scatter.template selfadjointView<Eigen::Upper>().rankUpdate(delta, Scalar(1) - inv);
+      // Written out on the upper triangle: Eigen's generic rankUpdate costs about twice as much at this size.
+      const Scalar f = Scalar(1) - inv;
+      for (int j = 0; j < kZ; ++j) {
+        const Scalar dj = delta(j) * f;
+        for (int i = 0; i <= j; ++i) scatter(i, j) += delta(i) * dj;
+      }
     }
 
     void merge(const Moments& other) {
@@ -116,21 +121,35 @@ class GroupedLeastSquares {
     return r;
   }
 
-  /// Least-squares estimate of Theta from all rows so far (same value as (3.21) on these rows).
-  Solution solve() const {
+  /// Least-squares estimate of Theta from all rows so far (same value as (3.21) on these rows). Standard errors
+  /// (and the residual variance) only when asked: the periodic estimate of the firmware does not need them.
+  Solution solve(bool with_std_errors = true) const {
     Solution out;
     ZMat info = ZMat::Zero();  // upper triangle of the reduced information matrix of z
-    Moments group[static_cast<std::size_t>(kGroups)];
+    ZVec mean[static_cast<std::size_t>(kGroups)];
+    std::uint32_t count[static_cast<std::size_t>(kGroups)];
     for (int g = 0; g < kGroups; ++g) {
-      group[g] = total_[g];
-      group[g].merge(block_[g]);
-      out.rows += group[g].count;
-      info.template triangularView<Eigen::Upper>() += group[g].scatter;
+      // The merge of total_ and block_ (Chan et al.), accumulated into info without copying the moments.
+      const Moments& a = total_[g];
+      const Moments& b = block_[g];
+      count[g] = a.count + b.count;
+      out.rows += count[g];
+      info.template triangularView<Eigen::Upper>() += a.scatter;
+      info.template triangularView<Eigen::Upper>() += b.scatter;
+      if (a.count == 0 || b.count == 0) {
+        mean[g] = a.count == 0 ? b.mean : a.mean;
+        continue;
+      }
+      const Scalar na = static_cast<Scalar>(a.count);
+      const Scalar nb = static_cast<Scalar>(b.count);
+      const ZVec delta = b.mean - a.mean;
+      mean[g] = a.mean + delta * (nb / (na + nb));
+      add_rank_one(info, delta, na * nb / (na + nb));
     }
     // Group 0 has no free offset: its raw second moment is scatter + count * mean mean'.
-    info.template selfadjointView<Eigen::Upper>().rankUpdate(group[0].mean, static_cast<Scalar>(group[0].count));
+    add_rank_one(info, mean[0], static_cast<Scalar>(count[0]));
     for (int g = 1; g < kGroups; ++g) {
-      if (group[g].count == 0) return out;  // mu for column g-1 not excited yet: kNotExcited
+      if (count[g] == 0) return out;  // mu for column g-1 not excited yet: kNotExcited
     }
     if (out.rows <= static_cast<std::uint32_t>(kDim)) return out;
 
@@ -152,32 +171,51 @@ class GroupedLeastSquares {
       a = ldlt.solve(r);
       // Column by column: a matrix right-hand side goes through Eigen's blocked triangular solver, which links
       // malloc (its stack-or-heap workspace) even when it never calls it. The freestanding test checks this.
-      for (int k = 0; k < N; ++k) A_inv.col(k) = ldlt.solve(NVec::Unit(k));
+      if (with_std_errors) {
+        for (int k = 0; k < N; ++k) A_inv.col(k) = ldlt.solve(NVec::Unit(k));
+      }
     }
+    out.theta.template head<N>() = a;
+    for (int k = 0; k < N * M; ++k) {
+      const ZVec& mk = mean[k + 1];
+      out.theta(N + k) = (mk(N) - mk.template head<N>().dot(a)) / w_(k);
+    }
+    out.status = out.theta.allFinite() ? Status::kOk : Status::kIllConditioned;
+    if (!with_std_errors || out.status != Status::kOk) return out;
 
     const Scalar rss = std::fmax(full(N, N) - r.dot(a), Scalar(0));
     out.noise_variance = rss / static_cast<Scalar>(out.rows - static_cast<std::uint32_t>(kDim));
-    out.theta.template head<N>() = a;
     out.std_error.template head<N>() = (out.noise_variance * A_inv.diagonal()).cwiseSqrt();
     for (int k = 0; k < N * M; ++k) {
-      const Moments& gk = group[k + 1];
-      const NVec phibar = gk.mean.template head<N>();
-      out.theta(N + k) = (gk.mean(N) - phibar.dot(a)) / w_(k);
       // var(mu_k) = sigma^2 [1/(count w^2) + (phibar/w)' A^-1 (phibar/w)]: group mean and within-group slope are
       // uncorrelated.
-      const NVec h = phibar / w_(k);
-      const Scalar var = out.noise_variance * (Scalar(1) / (static_cast<Scalar>(gk.count) * w_(k) * w_(k)) +
+      const NVec h = mean[k + 1].template head<N>() / w_(k);
+      const Scalar var = out.noise_variance * (Scalar(1) / (static_cast<Scalar>(count[k + 1]) * w_(k) * w_(k)) +
                                                h.dot(A_inv * h));
       out.std_error(N + k) = std::sqrt(var);
     }
-    out.status = out.theta.allFinite() ? Status::kOk : Status::kIllConditioned;
     return out;
   }
 
  private:
+  // info += alpha v v' on the upper triangle.
+  static void add_rank_one(ZMat& info, const ZVec& v, Scalar alpha) {
+    for (int j = 0; j < kZ; ++j) {
+      const Scalar vj = v(j) * alpha;
+      for (int i = 0; i <= j; ++i) info(i, j) += v(i) * vj;
+    }
+  }
+
   static Scalar reciprocal_condition(const NMat& A) {
     if constexpr (N == 1) {
       return A(0, 0) > Scalar(0) && std::isfinite(A(0, 0)) ? Scalar(1) : Scalar(0);
+    } else if constexpr (N == 2) {
+      // Closed form for a symmetric 2x2: lambda = (tr -+ sqrt((a-d)^2 + 4b^2)) / 2.
+      if (!A.allFinite()) return Scalar(0);
+      const Scalar half_tr = Scalar(0.5) * (A(0, 0) + A(1, 1));
+      const Scalar half_gap = std::hypot(Scalar(0.5) * (A(0, 0) - A(1, 1)), A(0, 1));
+      const Scalar hi = half_tr + half_gap;
+      return hi > Scalar(0) ? std::fmax(half_tr - half_gap, Scalar(0)) / hi : Scalar(0);
     } else {
       return reciprocal_condition_spd<Scalar, N>(A);
     }

@@ -69,8 +69,9 @@ class SchemeIdentifier {
     return Status::kOk;
   }
 
-  /// Current estimate. status is kOk only if Theta was solved and recovered.
-  Estimate estimate() const {
+  /// Current estimate. status is kOk only if Theta was solved and recovered. with_std_errors = false skips the
+  /// standard errors and the residual variance (the back-ends that always compute them ignore it).
+  Estimate estimate(bool with_std_errors = true) const {
     Estimate e;
     e.scheme = design_.scheme;
     e.ybar0 = step_.mean();
@@ -82,7 +83,11 @@ class SchemeIdentifier {
       e.status = Status::kStepMeanMissing;
       return e;
     }
-    e.ls = solver_.solve();
+    if constexpr (requires { solver_.solve(with_std_errors); }) {
+      e.ls = solver_.solve(with_std_errors);
+    } else {
+      e.ls = solver_.solve();
+    }
     if (e.ls.status != Status::kOk) {
       e.status = e.ls.status;
       return e;

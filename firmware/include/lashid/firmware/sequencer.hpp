@@ -163,12 +163,12 @@ class IdentificationSequencer {
     const int length = dis ? C::kPulseLengthD : C::kPulseLengthA;
     if (t_ % kPeriod == 0 || t_ == length) {  // an up-to-date estimate at least once per pulse period
       const std::uint32_t solve_start = board_.cycles();
-      latest_ = identifier_.estimate();
+      latest_ = identifier_.estimate(/*with_std_errors=*/false);
       cost_.solve_cycles += board_.cycles() - solve_start;
       ++cost_.solves;
     }
     if (t_ == length) {
-      (dis ? dis_ : ais_) = latest_;
+      (dis ? dis_ : ais_) = identifier_.estimate();  // the final one with standard errors (cross-check, report)
       if (dis) {
         enter(Stage::kStepA);
       } else {
