@@ -35,4 +35,19 @@ struct ReproduceArgs {
 };
 int run_reproduce(const ReproduceArgs& args);
 
+struct HilArgs {
+  std::string firmware;
+  std::string scenario;
+  std::uint64_t seed = 1;
+  std::string machine = "mps2-an386";
+  std::string qemu = "qemu-system-arm";
+  double timeout = 300;
+  int corrupt_every = 0;
+  bool compare_host = false;
+  double tolerance = 1e-3;
+  double ticks_to_instructions = 0;
+  std::string json_out;
+};
+int run_hil_command(const HilArgs& args);
+
 }  // namespace lashid::app

@@ -59,6 +59,29 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   reproduce->add_option("--json", rep.json_out, "Write all numbers as JSON");
 
+  HilArgs hil;
+  auto* hil_cmd = app.add_subcommand("hil", "Run the firmware in QEMU and play the actuator and plant over its UART");
+  hil_cmd->add_option("--firmware", hil.firmware, "Firmware ELF (built with a cross preset)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  hil_cmd->add_option("--scenario", hil.scenario, "Plant played by the host (must match the firmware's config)")
+      ->required();
+  hil_cmd->add_option("--seed", hil.seed, "Noise seed of the plant")->capture_default_str();
+  hil_cmd->add_option("--machine", hil.machine, "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3)")
+      ->capture_default_str();
+  hil_cmd->add_option("--qemu", hil.qemu, "QEMU executable")->capture_default_str();
+  hil_cmd->add_option("--timeout", hil.timeout, "Wall-clock limit in seconds")->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  hil_cmd->add_option("--corrupt-every", hil.corrupt_every,
+                      "Fault injection: damage every k-th measurement frame (the firmware must detect it)")
+      ->check(CLI::NonNegativeNumber);
+  hil_cmd->add_flag("--compare-host", hil.compare_host,
+                    "Also run the same firmware on the in-process host board and require equal estimates");
+  hil_cmd->add_option("--tolerance", hil.tolerance, "Relative tolerance of --compare-host")->capture_default_str();
+  hil_cmd->add_option("--ticks-to-instructions", hil.ticks_to_instructions,
+                      "Convert the board's cycle counts to instructions (QEMU -icount shift=0, SysTick at 25 MHz: 40)");
+  hil_cmd->add_option("--json", hil.json_out, "Write the results as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -69,6 +92,7 @@ int main(int argc, char** argv) {
     if (*simulate) return run_simulate(sim);
     if (*identify) return run_identify(id);
     if (*reproduce) return run_reproduce(rep);
+    if (*hil_cmd) return run_hil_command(hil);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());

@@ -1,0 +1,151 @@
+// `lashid hil`: the firmware in QEMU identifies the plant the host plays over the emulated UART.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "lashid/estimator/status.hpp"
+#include "lashid/sim/config.hpp"
+#include "lashid/sim/hil.hpp"
+#include "lashid/sim/scenario.hpp"
+
+namespace lashid::app {
+
+using namespace lashid::sim;
+
+namespace {
+
+const char* run_status_name(int s) {
+  switch (static_cast<fw::RunStatus>(s)) {
+    case fw::RunStatus::kOk: return "ok";
+    case fw::RunStatus::kIntervalTooNarrow: return "interval too narrow";
+    case fw::RunStatus::kActuatorFault: return "actuator fault";
+    case fw::RunStatus::kSensorFault: return "sensor fault";
+    case fw::RunStatus::kEstimatorFailed: return "estimator failed";
+    case fw::RunStatus::kStopped: return "stopped";
+  }
+  return s < 0 ? "no report" : "unknown";
+}
+
+std::vector<double> flatten(const fw::EstimateRecord& e) {
+  std::vector<double> x;
+  for (int i = 0; i < e.n; ++i) x.push_back(e.a[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < e.n; ++i) x.push_back(e.b[static_cast<std::size_t>(i)]);
+  for (int j = 0; j < e.m; ++j) x.push_back(e.F[static_cast<std::size_t>(j)]);
+  return x;
+}
+
+void print_estimate(const fw::EstimateRecord& e, const ExperimentConfig& config) {
+  const bool dis = e.scheme == 0;
+  const auto& V = dis ? config.V_d : config.V_a;
+  const Truth* truth = config.truth ? &*config.truth : nullptr;
+  const auto cell = [](const std::vector<double>* v, std::size_t k) {
+    return v != nullptr && k < v->size() ? fmt::format("{:>11.5g}", (*v)[k]) : std::string();
+  };
+  fmt::print("  {} estimate (status {}): ybar0 {:.4g}, residual variance {:.4g}\n", dis ? "DIS" : "AIS",
+             lashid::est::to_string(static_cast<lashid::est::Status>(e.status)), e.ybar0, e.noise_variance);
+  fmt::print("    {:<10}{:>11}{:>11}{:>11}\n", "", "firmware", "std.err", truth ? "truth" : "");
+  for (std::size_t i = 0; i < e.n; ++i) {
+    fmt::print("    {:<10}{:>11.5g}{:>11.2g}{}\n", fmt::format("a{}", i + 1), e.a[i], e.se_a[i],
+               cell(truth ? &truth->a : nullptr, i));
+  }
+  for (std::size_t i = 0; i < e.n; ++i) {
+    fmt::print("    {:<10}{:>11.5g}{:>11.2g}{}\n", fmt::format("b{}", i + 1), e.b[i], e.se_b[i],
+               cell(truth ? &truth->b : nullptr, i));
+  }
+  for (std::size_t j = 0; j < e.m && j < V.size(); ++j) {
+    fmt::print("    {:<10}{:>11.5g}{:>11}{}\n", fmt::format("F({:g})", V[j]), e.F[j], "",
+               cell(truth ? (dis ? &truth->F_d : &truth->F_a) : nullptr, j));
+  }
+}
+
+nlohmann::json estimate_json(const fw::EstimateRecord& e) {
+  std::vector<float> a(e.a.begin(), e.a.begin() + e.n), b(e.b.begin(), e.b.begin() + e.n);
+  std::vector<float> F(e.F.begin(), e.F.begin() + e.m);
+  return {{"a", a}, {"b", b}, {"F", F}, {"ybar0", e.ybar0}, {"status", e.status}};
+}
+
+}  // namespace
+
+int run_hil_command(const HilArgs& args) {
+  const Scenario& scenario = find_scenario(args.scenario);
+  HilOptions options;
+  options.firmware = args.firmware;
+  options.scenario = args.scenario;
+  options.seed = args.seed;
+  options.machine = args.machine;
+  options.qemu = args.qemu;
+  options.timeout_seconds = args.timeout;
+  options.corrupt_every = args.corrupt_every;
+  const HilResult r = run_hil(options);
+
+  fmt::print("== hil: {} on {}, plant {} (seed {}) ==\n", args.firmware, args.machine, args.scenario, args.seed);
+  fmt::print("  firmware result: {}; QEMU exit status {}\n", run_status_name(r.done), r.qemu_exit);
+  fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
+             "damaged on purpose\n",
+             r.samples, r.repeated_requests, r.protocol_errors, r.corrupted_by_host);
+  for (const auto& e : r.estimates) print_estimate(e, scenario.config);
+  if (r.cross_check) {
+    const auto& c = *r.cross_check;
+    if (c.max_z < 0) {
+      fmt::print("  cross-check (Remark 3b): not available (a scheme failed)\n");
+    } else {
+      fmt::print("  cross-check (Remark 3b): max |DIS - AIS| / se = {:.2f} on {}{} (threshold {:.1f}): {}\n", c.max_z,
+                 c.worst < r.estimates.front().n ? "a" : "b", c.worst % r.estimates.front().n + 1, c.threshold,
+                 c.disagree ? "DISAGREE: the nonlinearity is not the assumed switch/backlash" : "agree");
+    }
+  }
+  nlohmann::json out;
+  if (r.cost) {
+    const auto& c = *r.cost;
+    const double per_update = c.updates ? static_cast<double>(c.update_cycles) / c.updates : 0.0;
+    const double per_solve = c.solves ? static_cast<double>(c.solve_cycles) / c.solves : 0.0;
+    const double amortised = c.updates ? static_cast<double>(c.update_cycles + c.solve_cycles) / c.updates : 0.0;
+    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes\n", c.samples,
+               c.link_errors, c.retries, c.stack_bytes);
+    fmt::print("  cost (board cycles): update {:.1f}/sample, solve {:.0f}/call ({} calls), amortised {:.1f}/sample\n",
+               per_update, per_solve, c.solves, amortised);
+    if (args.ticks_to_instructions > 0) {
+      fmt::print("  cost (instructions, x{:g}): update {:.0f}/sample, solve {:.0f}/call, amortised {:.0f}/sample\n",
+                 args.ticks_to_instructions, per_update * args.ticks_to_instructions,
+                 per_solve * args.ticks_to_instructions, amortised * args.ticks_to_instructions);
+    }
+    out["cost"] = {{"update_cycles", c.update_cycles}, {"updates", c.updates},   {"solve_cycles", c.solve_cycles},
+                   {"solves", c.solves},               {"samples", c.samples},   {"link_errors", c.link_errors},
+                   {"retries", c.retries},             {"stack_bytes", c.stack_bytes}};
+  }
+  for (const auto& e : r.estimates) out[e.scheme == 0 ? "dis" : "ais"] = estimate_json(e);
+  out["done"] = r.done;
+  out["qemu_exit"] = r.qemu_exit;
+
+  bool ok = r.done == static_cast<int>(fw::RunStatus::kOk) && r.qemu_exit == 0 && r.estimates.size() == 2;
+  if (args.compare_host) {
+    const HilResult host = run_on_host_board(args.scenario, args.seed);
+    double worst = 0;
+    for (std::size_t s = 0; s < r.estimates.size() && s < host.estimates.size(); ++s) {
+      const auto q = flatten(r.estimates[s]);
+      const auto h = flatten(host.estimates[s]);
+      double num = 0, den = 0;
+      for (std::size_t k = 0; k < h.size(); ++k) {
+        num += (q[k] - h[k]) * (q[k] - h[k]);
+        den += h[k] * h[k];
+      }
+      worst = std::fmax(worst, std::sqrt(num / den));
+    }
+    const bool same = host.estimates.size() == r.estimates.size() && worst <= args.tolerance &&
+                      host.samples == r.samples;
+    fmt::print("  QEMU vs host build of the same firmware: {} vs {} samples, max relative difference {:.2g} "
+               "(tolerance {:.0e}): {}\n",
+               r.samples, host.samples, worst, args.tolerance, same ? "equal" : "DIFFERENT");
+    out["host_relative_difference"] = worst;
+    ok = ok && same;
+  }
+  if (!args.json_out.empty()) write_json_file(args.json_out, out);
+  if (!r.console.empty()) fmt::print("  firmware console:\n{}", r.console);
+  return ok ? 0 : 1;
+}
+
+}  // namespace lashid::app
