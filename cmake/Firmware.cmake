@@ -1,0 +1,113 @@
+# Cortex-M firmware images for the QEMU mps2 boards (cross builds only: presets cm4f-release, cm7-release,
+# cm3-release). See docs/firmware-platform.md.
+#
+#   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>])
+#
+# builds <target>.elf against the board library (lashid::hal_mps2) with the linker script of LASHID_QEMU_MACHINE,
+# prints a flash/RAM report after each link, and registers two tests:
+#   <target>_runs_in_qemu   runs the ELF in qemu-system-arm (CMAKE_CROSSCOMPILING_EMULATOR); passes on exit code 0,
+#                           fails on any other code or after TIMEOUT seconds (default 60: a hang fails)
+#   <target>_is_heap_free   fails if the linked ELF defines or references any allocator symbol (malloc, free, calloc,
+#                           realloc, their _r variants, _sbrk, _sbrk_r, operator new/delete): the proof is the link
+#
+# This file is also the script those two steps run (cmake -P with LASHID_FIRMWARE_ACTION = size | heap-check).
+
+if(CMAKE_SCRIPT_MODE_FILE AND DEFINED LASHID_FIRMWARE_ACTION)
+  if(LASHID_FIRMWARE_ACTION STREQUAL "size")
+    # Flash = everything loaded from the image (text, read-only data, vectors, init arrays, .data's initial values);
+    # RAM = .data + .bss + the reserved stack. arm-none-eabi-size's Berkeley columns: text | data | bss (bss includes
+    # the NOLOAD .stack reservation).
+    execute_process(COMMAND "${SIZE}" -B -d "${ELF}" OUTPUT_VARIABLE berkeley RESULT_VARIABLE rc)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "${SIZE} failed on ${ELF}")
+    endif()
+    execute_process(COMMAND "${SIZE}" -A -d "${ELF}" OUTPUT_VARIABLE sysv)
+    string(REGEX MATCH "\n[ \t]*([0-9]+)[ \t]+([0-9]+)[ \t]+([0-9]+)[ \t]+[0-9]+" row "${berkeley}")
+    if(NOT row)
+      message(FATAL_ERROR "cannot read the sizes of ${ELF}:\n${berkeley}")
+    endif()
+    set(text ${CMAKE_MATCH_1})
+    set(data ${CMAKE_MATCH_2})
+    set(bss ${CMAKE_MATCH_3})
+    set(stack 0)
+    if(sysv MATCHES "\n\\.stack[ \t]+([0-9]+)")
+      set(stack ${CMAKE_MATCH_1})
+    endif()
+    set(psram 0)
+    if(sysv MATCHES "\n\\.psram[ \t]+([0-9]+)")
+      set(psram ${CMAKE_MATCH_1})
+    endif()
+    math(EXPR flash "${text} + ${data}")
+    math(EXPR ram "${data} + ${bss} - ${psram}")
+    math(EXPR static_ram "${ram} - ${stack}")
+    get_filename_component(name "${ELF}" NAME)
+    message("${name}: text ${text}, data ${data}, bss ${bss} (arm-none-eabi-size) -> flash ${flash} B, "
+            "RAM ${ram} B = stack ${stack} + static ${static_ram}"
+            "; stack high-water: printed by the image at exit (test ${TARGET}_runs_in_qemu)")
+    return()
+  elseif(LASHID_FIRMWARE_ACTION STREQUAL "heap-check")
+    execute_process(COMMAND "${NM}" "${ELF}" OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "${NM} failed on ${ELF}")
+    endif()
+    # Mangled operator new/delete: _Znwj _Znaj (+ nothrow/align_val_t overloads), _ZdlPv _ZdaPv (+ sized etc.).
+    set(allocators "malloc|free|calloc|realloc|reallocf|memalign|aligned_alloc|posix_memalign|valloc|pvalloc"
+                   "|_malloc_r|_free_r|_calloc_r|_realloc_r|_memalign_r|_sbrk|_sbrk_r|_Zn[wa][jm][A-Za-z0-9_]*"
+                   "|_Zd[la]Pv[A-Za-z0-9_]*")
+    string(JOIN "" allocators ${allocators})
+    string(REGEX MATCHALL "[^\n]* (${allocators})\n" offending "${symbols}\n")
+    # Placement new/delete (operator new(size_t, void*) etc.) allocate nothing; unoptimised builds keep them.
+    list(FILTER offending EXCLUDE REGEX " (_ZnwjPv|_ZnajPv|_ZdlPvS_|_ZdaPvS_)\n$")
+    list(LENGTH offending count)
+    if(count GREATER 0)
+      string(REPLACE ";" "" offending "${offending}")
+      message(FATAL_ERROR "${ELF} links heap allocator symbols (nm):\n${offending}")
+    endif()
+    string(REGEX MATCHALL "\n" lines "${symbols}")
+    list(LENGTH lines total)
+    message(STATUS "${ELF}: none of ${total} symbols is an allocator (malloc/free/calloc/realloc/_sbrk/new/delete)")
+    return()
+  else()
+    message(FATAL_ERROR "Firmware.cmake: unknown LASHID_FIRMWARE_ACTION '${LASHID_FIRMWARE_ACTION}'")
+  endif()
+endif()
+
+include_guard(GLOBAL)
+
+set(_lashid_firmware_script "${CMAKE_CURRENT_LIST_FILE}")
+
+function(lashid_add_firmware target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "TIMEOUT" "SOURCES;LIBS")
+  if(NOT CMAKE_CROSSCOMPILING)
+    message(FATAL_ERROR "lashid_add_firmware(${target}): firmware images are built by the cross presets only")
+  endif()
+  if(NOT arg_SOURCES)
+    message(FATAL_ERROR "lashid_add_firmware(${target}): no SOURCES")
+  endif()
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "lashid_add_firmware(${target}): unexpected arguments ${arg_UNPARSED_ARGUMENTS}")
+  endif()
+  if(NOT arg_TIMEOUT)
+    set(arg_TIMEOUT 60)
+  endif()
+  find_program(LASHID_ARM_SIZE NAMES arm-none-eabi-size REQUIRED)
+
+  add_executable(${target} ${arg_SOURCES})
+  target_link_libraries(${target} PRIVATE ${arg_LIBS} lashid::hal_mps2 lashid::warnings)
+  get_target_property(script lashid::hal_mps2 LASHID_LINKER_SCRIPT)
+  get_target_property(script_depends lashid::hal_mps2 LASHID_LINKER_SCRIPT_DEPENDS)
+  target_link_options(${target} PRIVATE "-T${script}")
+  set_property(TARGET ${target} APPEND PROPERTY LINK_DEPENDS ${script_depends})
+  add_custom_command(TARGET ${target} POST_BUILD
+    COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=size -DSIZE=${LASHID_ARM_SIZE} -DELF=$<TARGET_FILE:${target}>
+            -DTARGET=${target} -P ${_lashid_firmware_script}
+    VERBATIM)
+
+  # The target's CROSSCOMPILING_EMULATOR (qemu-system-arm ... -kernel) runs it; CTest appends the ELF's path.
+  add_test(NAME ${target}_runs_in_qemu COMMAND ${target})
+  set_tests_properties(${target}_runs_in_qemu PROPERTIES TIMEOUT ${arg_TIMEOUT} LABELS "firmware;qemu")
+  add_test(NAME ${target}_is_heap_free
+           COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=heap-check -DNM=${CMAKE_NM}
+                   -DELF=$<TARGET_FILE:${target}> -P ${_lashid_firmware_script})
+  set_tests_properties(${target}_is_heap_free PROPERTIES TIMEOUT 60 LABELS "firmware")
+endfunction()

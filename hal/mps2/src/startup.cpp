@@ -1,0 +1,269 @@
+// Startup and C/C++ runtime policy for the mps2 images: vector table, reset, fault handlers, stack measurement, and
+// the few newlib/libstdc++ hooks a bare-metal image needs.
+//
+// This object is forced into every image by the linker script (EXTERN(lashid_mps2_vectors)), so every definition
+// below wins over the C library's before the library is searched: abort(), __assert_func(), atexit(), _exit() and
+// __cxa_pure_virtual() end the run through semihosting with a message. There is deliberately NO _sbrk (and the
+// linker script defines no `end` symbol and asserts that no _sbrk got linked): anything that needs the heap
+// (malloc, operator new, stdio buffers) fails to link instead of silently getting one.
+//
+// Reset order: [asm] FPU access (CPACR CP10/CP11, DSB, ISB) -> SP -> paint the stack; [C++] copy .data, zero .bss,
+// VTOR, preinit/init arrays (static constructors), main(), finish(main's result).
+#include <cstddef>
+#include <cstdint>
+
+#include "lashid/hal/mps2.hpp"
+#include "registers.hpp"
+
+// Linker script symbols (hal/mps2/ld/mps2-common.ld).
+extern "C" {
+extern std::uint32_t __stack_limit[];
+extern std::uint32_t __stack_top[];
+extern std::uint32_t __data_start[];
+extern std::uint32_t __data_end[];
+extern const std::uint32_t __data_load[];
+extern std::uint32_t __bss_start[];
+extern std::uint32_t __bss_end[];
+using InitFunction = void (*)();
+extern const InitFunction __preinit_array_start[];
+extern const InitFunction __preinit_array_end[];
+extern const InitFunction __init_array_start[];
+extern const InitFunction __init_array_end[];
+
+[[noreturn]] void Reset_Handler();
+void NMI_Handler();
+void HardFault_Handler();
+void Default_Handler();
+void SysTick_Handler();  // systick.cpp
+}
+
+// The application's main(), called through its assembler name: C++ forbids a program to call ::main directly.
+extern "C" int lashid_mps2_application_main() __asm__("main");
+
+#define LASHID_STR2(x) #x
+#define LASHID_STR(x) LASHID_STR2(x)
+// The stack paint as an assembler literal; must equal lashid::hal::mps2::kStackPaint.
+#define LASHID_MPS2_STACK_PAINT 0x5AC55AC5
+static_assert(LASHID_MPS2_STACK_PAINT == lashid::hal::mps2::kStackPaint);
+
+// ---- Vector table ------------------------------------------------------------------------------------------------------
+
+namespace {
+
+using Handler = void (*)();
+constexpr std::size_t kSystemExceptions = 16;
+constexpr std::size_t kExternalInterrupts = 32;  // AN385/AN386/AN500 wire their peripherals to IRQ 0..31
+
+struct VectorTable {
+  void* initial_sp;
+  Handler handlers[kSystemExceptions - 1 + kExternalInterrupts];
+};
+
+constexpr VectorTable make_vectors() {
+  VectorTable t{__stack_top, {}};
+  for (Handler& h : t.handlers) h = Default_Handler;
+  t.handlers[0] = Reset_Handler;       // 1
+  t.handlers[1] = NMI_Handler;         // 2
+  t.handlers[2] = HardFault_Handler;   // 3: MemManage/BusFault/UsageFault (4..6) are not enabled and escalate here
+  t.handlers[6] = t.handlers[7] = t.handlers[8] = t.handlers[9] = nullptr;  // 7..10: reserved
+  t.handlers[12] = nullptr;                                                  // 13: reserved
+  t.handlers[14] = SysTick_Handler;    // 15
+  return t;
+}
+
+}  // namespace
+
+extern "C" {
+[[gnu::used, gnu::section(".isr_vector")]] constinit const VectorTable lashid_mps2_vectors = make_vectors();
+}
+
+// ---- Reset -------------------------------------------------------------------------------------------------------------
+
+extern "C" [[noreturn]] void lashid_mps2_start();
+
+// Naked: runs before anything may use the stack or an FP register, so no compiler-generated code at all.
+extern "C" [[gnu::naked, noreturn]] void Reset_Handler() {
+  __asm__ volatile(
+#if defined(__ARM_FP)
+      // CPACR |= CP10, CP11 full access; DSB + ISB so that the next instruction already sees the FPU enabled
+      // (ARMv7-M ARM, B3.2.20). Any FP instruction before this point would raise a NOCP UsageFault.
+      "ldr r0, =0xE000ED88\n\t"
+      "ldr r1, [r0]\n\t"
+      "orr r1, r1, #0x00F00000\n\t"
+      "str r1, [r0]\n\t"
+      "dsb\n\t"
+      "isb\n\t"
+#endif
+      // The vector table already set SP; set it again for a debugger or boot loader that jumps here.
+      "ldr r0, =__stack_top\n\t"
+      "mov sp, r0\n\t"
+      // Paint [__stack_limit, __stack_top) with the pattern, one word at a time (nothing is on the stack yet).
+      "ldr r0, =__stack_limit\n\t"
+      "ldr r1, =__stack_top\n\t"
+      "ldr r2, =" LASHID_STR(LASHID_MPS2_STACK_PAINT) "\n\t"
+      "1:\n\t"
+      "cmp r0, r1\n\t"
+      "bhs 2f\n\t"
+      "str r2, [r0], #4\n\t"
+      "b 1b\n\t"
+      "2:\n\t"
+      "b lashid_mps2_start\n\t"
+      ".ltorg\n\t");
+}
+
+extern "C" [[noreturn]] void lashid_mps2_start() {
+  using namespace lashid::hal::mps2::detail;
+  // .data from its load address in "flash" (ZBT SSRAM1), .bss to zero. Word loops over linker-provided bounds.
+  const std::uint32_t* src = __data_load;
+  for (std::uint32_t* dst = __data_start; dst < __data_end;) *dst++ = *src++;
+  for (std::uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0U;
+  reg(kVtor) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&lashid_mps2_vectors));
+  __asm__ volatile("dsb\n\tisb" ::: "memory");
+  for (const InitFunction* f = __preinit_array_start; f < __preinit_array_end; ++f) (*f)();
+  for (const InitFunction* f = __init_array_start; f < __init_array_end; ++f) (*f)();
+  lashid::hal::mps2::finish(lashid_mps2_application_main());
+}
+
+// ---- Faults and unexpected exceptions ----------------------------------------------------------------------------------
+
+namespace {
+
+void say(const char* text) { lashid::hal::mps2::semihosting::write(text); }
+
+}  // namespace
+
+// Called by HardFault_Handler with the exception frame (r0-r3, r12, lr, pc, xPSR) of the faulting context.
+extern "C" [[noreturn, gnu::used]] void lashid_mps2_hard_fault(const std::uint32_t* frame) {
+  using namespace lashid::hal::mps2;
+  using namespace lashid::hal::mps2::detail;
+  Text<200> t;
+  t << "\nlashid: HardFault pc=";
+  t.hex(frame[6]) << " lr=";
+  t.hex(frame[5]) << " cfsr=";
+  t.hex(reg(kCfsr)) << " hfsr=";
+  t.hex(reg(kHfsr)) << " mmfar=";
+  t.hex(reg(kMmfar)) << " bfar=";
+  t.hex(reg(kBfar)) << "\n";
+  say(t.c_str());
+  if ((reg(kCfsr) & (1U << 19)) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
+  semihosting::exit(kExitHardFault);
+}
+
+extern "C" [[gnu::naked]] void HardFault_Handler() {
+  __asm__ volatile(
+      "tst lr, #4\n\t"  // EXC_RETURN bit 2: which stack holds the frame
+      "ite eq\n\t"
+      "mrseq r0, msp\n\t"
+      "mrsne r0, psp\n\t"
+      "b lashid_mps2_hard_fault\n\t");
+}
+
+extern "C" void NMI_Handler() {
+  say("\nlashid: unexpected NMI\n");
+  lashid::hal::mps2::semihosting::exit(lashid::hal::mps2::kExitUnexpectedIrq);
+}
+
+extern "C" void Default_Handler() {
+  using namespace lashid::hal::mps2;
+  Text<64> t;
+  t << "\nlashid: unexpected exception " << static_cast<std::uint32_t>(detail::reg(detail::kIcsr) & 0x1FFU) << "\n";
+  say(t.c_str());
+  semihosting::exit(kExitUnexpectedIrq);
+}
+
+// ---- Runtime policy (newlib / libstdc++ hooks) -------------------------------------------------------------------------
+
+extern "C" {
+
+[[noreturn]] void abort() {
+  say("\nlashid: abort()\n");
+  lashid::hal::mps2::semihosting::exit(lashid::hal::mps2::kExitAbort);
+}
+
+// newlib's assert() target (used when NDEBUG is not defined, e.g. eigen_assert in a Debug build).
+[[noreturn]] void __assert_func(const char* file, int line, const char* function, const char* expression) {
+  using namespace lashid::hal::mps2;
+  Text<256> t;
+  t << "\nlashid: assertion failed: " << (expression != nullptr ? expression : "?") << " in "
+    << (function != nullptr ? function : "?") << " at " << (file != nullptr ? file : "?") << ':'
+    << static_cast<std::int32_t>(line) << "\n";
+  say(t.c_str());
+  semihosting::exit(kExitAbort);
+}
+
+// Static destructors never run on this target (main's return ends the run through semihosting), so they are not
+// registered: no atexit table, no allocation for one.
+int atexit(void (*)()) { return 0; }
+
+// std::exit() / exit() end here after newlib's exit processing.
+[[noreturn]] void _exit(int code) { lashid::hal::mps2::semihosting::exit(code); }
+
+[[noreturn]] void __cxa_pure_virtual() {
+  say("\nlashid: pure virtual call\n");
+  lashid::hal::mps2::semihosting::exit(lashid::hal::mps2::kExitAbort);
+}
+
+}  // extern "C"
+
+// ---- Platform queries, stack, finish -----------------------------------------------------------------------------------
+
+namespace lashid::hal::mps2 {
+
+const char* machine_name() { return LASHID_QEMU_MACHINE_NAME; }
+
+const char* core_name() {
+#if defined(__ARM_ARCH_7EM__) && defined(__ARM_FP) && (__ARM_FP & 8)
+  return "Cortex-M7 (ARMv7E-M, FPv5 double precision, hard float)";
+#elif defined(__ARM_ARCH_7EM__) && defined(__ARM_FP)
+  return "Cortex-M4F (ARMv7E-M, FPv4 single precision, hard float)";
+#elif defined(__ARM_ARCH_7EM__)
+  return "ARMv7E-M (soft float)";
+#elif defined(__ARM_ARCH_7M__)
+  return "Cortex-M3 (ARMv7-M, soft float)";
+#else
+  return "unknown core";
+#endif
+}
+
+std::uint32_t expected_cpu_part() { return LASHID_EXPECTED_CPU_PART; }
+
+std::uint32_t cpu_part() { return (detail::reg(detail::kCpuid) >> 4) & 0xFFFU; }
+
+bool fpu_enabled() {
+  return (detail::reg(detail::kCpacr) & detail::kCpacrCp10Cp11Full) == detail::kCpacrCp10Cp11Full;
+}
+
+std::uint32_t fp_features() {
+  // MVFR0 exists only with an FPU; on a Cortex-M3 the address is reserved (QEMU reads 0 there; avoid it anyway).
+  return cpu_part() == 0xC23U ? 0U : detail::reg(detail::kMvfr0);
+}
+
+std::size_t stack_size_bytes() {
+  return static_cast<std::size_t>(reinterpret_cast<std::uintptr_t>(__stack_top) -
+                                  reinterpret_cast<std::uintptr_t>(__stack_limit));
+}
+
+std::size_t stack_high_water_bytes() {
+  const volatile std::uint32_t* p = __stack_limit;
+  const volatile std::uint32_t* const top = __stack_top;
+  while (p < top && *p == kStackPaint) ++p;
+  return static_cast<std::size_t>(reinterpret_cast<std::uintptr_t>(__stack_top) - reinterpret_cast<std::uintptr_t>(p));
+}
+
+void finish(int code) {
+  const std::size_t used = stack_high_water_bytes();
+  const std::size_t size = stack_size_bytes();
+  // The whole paint gone (or all but the last word): the stack may have overflowed below __stack_limit.
+  const bool overflow = used + sizeof(std::uint32_t) >= size;
+  Text<160> t;
+  t << "lashid: exit " << static_cast<std::int32_t>(code) << ", stack high-water "
+    << static_cast<std::uint32_t>(used) << " of " << static_cast<std::uint32_t>(size) << " bytes\n";
+  say(t.c_str());
+  if (overflow) {
+    say("lashid: STACK OVERFLOW (the stack paint is used up)\n");
+    if (code == 0) code = kExitStackOverflow;
+  }
+  semihosting::exit(code);
+}
+
+}  // namespace lashid::hal::mps2
