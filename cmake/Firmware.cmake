@@ -1,12 +1,13 @@
 # Cortex-M firmware images for the QEMU mps2 boards (cross builds only: presets cm4f-release, cm7-release,
 # cm3-release). See docs/firmware-platform.md.
 #
-#   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>])
+#   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>] [NO_RUN_TEST])
 #
 # builds <target>.elf against the board library (lashid::hal_mps2) with the linker script of LASHID_QEMU_MACHINE,
 # prints a flash/RAM report after each link, and registers two tests:
 #   <target>_runs_in_qemu   runs the ELF in qemu-system-arm (CMAKE_CROSSCOMPILING_EMULATOR); passes on exit code 0,
-#                           fails on any other code or after TIMEOUT seconds (default 60: a hang fails)
+#                           fails on any other code or after TIMEOUT seconds (default 60: a hang fails); not with
+#                           NO_RUN_TEST (images that need a peer on their UARTs, tested through `lashid hil`)
 #   <target>_is_heap_free   fails if the linked ELF defines or references any allocator symbol (malloc, free, calloc,
 #                           realloc, their _r variants, _sbrk, _sbrk_r, operator new/delete): the proof is the link
 #
@@ -77,7 +78,7 @@ include_guard(GLOBAL)
 set(_lashid_firmware_script "${CMAKE_CURRENT_LIST_FILE}")
 
 function(lashid_add_firmware target)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "TIMEOUT" "SOURCES;LIBS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "NO_RUN_TEST" "TIMEOUT" "SOURCES;LIBS")
   if(NOT CMAKE_CROSSCOMPILING)
     message(FATAL_ERROR "lashid_add_firmware(${target}): firmware images are built by the cross presets only")
   endif()
@@ -104,8 +105,10 @@ function(lashid_add_firmware target)
     VERBATIM)
 
   # The target's CROSSCOMPILING_EMULATOR (qemu-system-arm ... -kernel) runs it; CTest appends the ELF's path.
-  add_test(NAME ${target}_runs_in_qemu COMMAND ${target})
-  set_tests_properties(${target}_runs_in_qemu PROPERTIES TIMEOUT ${arg_TIMEOUT} LABELS "firmware;qemu")
+  if(NOT arg_NO_RUN_TEST)
+    add_test(NAME ${target}_runs_in_qemu COMMAND ${target})
+    set_tests_properties(${target}_runs_in_qemu PROPERTIES TIMEOUT ${arg_TIMEOUT} LABELS "firmware;qemu")
+  endif()
   add_test(NAME ${target}_is_heap_free
            COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=heap-check -DNM=${CMAKE_NM}
                    -DELF=$<TARGET_FILE:${target}> -P ${_lashid_firmware_script})

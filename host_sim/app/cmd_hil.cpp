@@ -80,6 +80,7 @@ int run_hil_command(const HilArgs& args) {
   options.qemu = args.qemu;
   options.timeout_seconds = args.timeout;
   options.corrupt_every = args.corrupt_every;
+  options.icount = args.icount;
   const HilResult r = run_hil(options);
 
   fmt::print("== hil: {} on {}, plant {} (seed {}) ==\n", args.firmware, args.machine, args.scenario, args.seed);

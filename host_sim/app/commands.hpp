@@ -46,6 +46,7 @@ struct HilArgs {
   bool compare_host = false;
   double tolerance = 1e-3;
   double ticks_to_instructions = 0;
+  bool icount = false;
   std::string json_out;
 };
 int run_hil_command(const HilArgs& args);

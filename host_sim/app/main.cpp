@@ -80,6 +80,8 @@ int main(int argc, char** argv) {
   hil_cmd->add_option("--tolerance", hil.tolerance, "Relative tolerance of --compare-host")->capture_default_str();
   hil_cmd->add_option("--ticks-to-instructions", hil.ticks_to_instructions,
                       "Convert the board's cycle counts to instructions (QEMU -icount shift=0, SysTick at 25 MHz: 40)");
+  hil_cmd->add_flag("--icount", hil.icount,
+                    "Run QEMU with -icount shift=0 (deterministic cycle counts; much slower exchanges)");
   hil_cmd->add_option("--json", hil.json_out, "Write the results as JSON");
 
   try {

@@ -20,6 +20,7 @@ struct HilOptions {
   std::string qemu = "qemu-system-arm";
   double timeout_seconds = 300;         ///< wall-clock limit for the whole run; QEMU is killed after it
   int corrupt_every = 0;                ///< > 0: flip one bit in every k-th measurement frame (fault injection)
+  bool icount = false;                  ///< QEMU -icount shift=0: deterministic cycle counts, much slower I/O
 };
 
 struct HilResult {
