@@ -144,6 +144,14 @@ int run_hil_command(const HilArgs& args) {
     out["host_relative_difference"] = worst;
     ok = ok && same;
   }
+  if (r.corrupted_by_host > 0) {
+    // Every frame damaged on purpose must have been caught by the firmware's checksum and asked for again.
+    const std::uint32_t caught = r.cost ? r.cost->retries : 0;
+    const bool all_caught = r.cost && caught >= r.corrupted_by_host && r.cost->link_errors >= r.corrupted_by_host;
+    fmt::print("  fault injection: {} frames damaged, {} re-requested by the firmware: {}\n", r.corrupted_by_host,
+               caught, all_caught ? "all detected" : "NOT ALL DETECTED");
+    ok = ok && all_caught;
+  }
   if (!args.json_out.empty()) write_json_file(args.json_out, out);
   if (!r.console.empty()) fmt::print("  firmware console:\n{}", r.console);
   return ok ? 0 : 1;
