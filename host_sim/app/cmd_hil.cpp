@@ -107,7 +107,8 @@ int run_hil_command(const HilArgs& args) {
     const double amortised = c.updates ? static_cast<double>(c.update_cycles + c.solve_cycles) / c.updates : 0.0;
     fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes\n", c.samples,
                c.link_errors, c.retries, c.stack_bytes);
-    fmt::print("  cost (board cycles): update {:.1f}/sample, solve {:.0f}/call ({} calls), amortised {:.1f}/sample\n",
+    fmt::print("  cost (board cycles{}): update {:.1f}/sample, solve {:.0f}/call ({} calls), amortised {:.1f}/sample\n",
+               args.icount ? "" : "; without --icount SysTick follows host time: not an instruction count",
                per_update, per_solve, c.solves, amortised);
     if (args.ticks_to_instructions > 0) {
       fmt::print("  cost (instructions, x{:g}): update {:.0f}/sample, solve {:.0f}/call, amortised {:.0f}/sample\n",
