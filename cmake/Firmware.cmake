@@ -44,7 +44,7 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED LASHID_FIRMWARE_ACTION)
     get_filename_component(name "${ELF}" NAME)
     message("${name}: text ${text}, data ${data}, bss ${bss} (arm-none-eabi-size) -> flash ${flash} B, "
             "RAM ${ram} B = stack ${stack} + static ${static_ram}"
-            "; stack high-water: printed by the image at exit (test ${TARGET}_runs_in_qemu)")
+            "; stack high-water: printed by the image at exit")
     return()
   elseif(LASHID_FIRMWARE_ACTION STREQUAL "heap-check")
     execute_process(COMMAND "${NM}" "${ELF}" OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
