@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace lashid::app {
 
@@ -37,6 +38,7 @@ int run_reproduce(const ReproduceArgs& args);
 
 struct HilArgs {
   std::string firmware;
+  std::vector<std::string> attach;  // LINK PLANT sockets
   std::string scenario;
   std::uint64_t seed = 1;
   std::string machine = "mps2-an386";

@@ -61,9 +61,16 @@ int main(int argc, char** argv) {
 
   HilArgs hil;
   auto* hil_cmd = app.add_subcommand("hil", "Run the firmware in QEMU and play the actuator and plant over its UART");
-  hil_cmd->add_option("--firmware", hil.firmware, "Firmware ELF (built with a cross preset)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  auto* fw_opt = hil_cmd->add_option("--firmware", hil.firmware, "Firmware ELF to start QEMU with (cross preset build)")
+                    ->check(CLI::ExistingFile);
+  auto* attach_opt = hil_cmd->add_option("--attach", hil.attach,
+                                         "Attach to a running QEMU instead: its UART0 and UART1 Unix sockets "
+                                         "(-serial unix:LINK,server=on,wait=off -serial unix:PLANT,server=on,wait=off)")
+                         ->expected(2);
+  fw_opt->excludes(attach_opt);
+  hil_cmd->callback([&] {
+    if (hil.firmware.empty() && hil.attach.empty()) throw CLI::RequiredError("--firmware or --attach");
+  });
   hil_cmd->add_option("--scenario", hil.scenario, "Plant played by the host (must match the firmware's config)")
       ->required();
   hil_cmd->add_option("--seed", hil.seed, "Noise seed of the plant")->capture_default_str();

@@ -168,6 +168,128 @@ int accept_with_timeout(int listener, int timeout_ms, const char* what) {
   return fd;
 }
 
+int connect_with_timeout(const std::string& path, int timeout_ms) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.size() >= sizeof(addr.sun_path)) throw std::runtime_error("hil: socket path too long: " + path);
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  for (int waited = 0;; waited += 50) {
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) fail("socket");
+    if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) == 0) return fd;
+    ::close(fd);
+    if (waited >= timeout_ms) fail("cannot connect to " + path);
+    ::usleep(50'000);
+  }
+}
+
+// Starts QEMU with UART0 (link) and UART1 (plant port) on two Unix sockets the host listens on, and its console
+// (semihosting) on a pipe.
+void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid_t& qemu, int& link_fd,
+                int& plant_fd, int& out_fd) {
+  UnixListener link_listener(dir / "link.sock");
+  UnixListener plant_listener(dir / "plant.sock");
+  std::vector<std::string> args{options.qemu, "-machine", options.machine, "-nographic", "-monitor", "none",
+                                "-serial", "unix:" + (dir / "link.sock").string(),
+                                "-serial", "unix:" + (dir / "plant.sock").string(),
+                                "-semihosting-config", "enable=on,target=native", "-kernel", options.firmware};
+  if (options.icount) {
+    // Deterministic virtual time (1 instruction = 1 ns): SysTick counts instructions / 40. QEMU then services the
+    // UARTs only between long runs of the vCPU, which makes every exchange slow.
+    args.insert(args.end() - 2, {"-icount", "shift=0"});
+  }
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  int pipe_fds[2];
+  if (::pipe2(pipe_fds, O_CLOEXEC) != 0) fail("pipe");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
+  const int spawn_error = ::posix_spawnp(&qemu, options.qemu.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(pipe_fds[1]);
+  out_fd = pipe_fds[0];
+  if (spawn_error != 0) {
+    errno = spawn_error;
+    fail("cannot start " + options.qemu);
+  }
+  link_fd = accept_with_timeout(link_listener.fd(), 10000, "link (UART0)");
+  plant_fd = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
+}
+
+void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, HilResult& result) {
+  for (std::size_t i = 0; i < size; ++i) {
+    const auto r = decoder.push(data[i]);
+    if (r == link::FrameDecoder::Result::kFrame) collect(decoder.frame(), result);
+    if (r == link::FrameDecoder::Result::kDropped) ++result.protocol_errors;
+  }
+}
+
+// Sends start, plays the plant and collects the reports, until QEMU exits (started by us) or the firmware's kDone
+// frame arrives (attached: QEMU belongs to the user).
+void run_session(const HilOptions& options, const Scenario& scenario, pid_t& qemu, int& link_fd, int& plant_fd,
+                 int& out_fd, HilResult& result) {
+  link::PayloadWriter start;
+  start.u8(static_cast<std::uint8_t>(link::Command::kStart));
+  write_all(link_fd, frame(link::MessageType::kCommand, start));
+
+  PlantPeer peer(scenario, options.seed, options.corrupt_every, result);
+  link::FrameDecoder link_decoder;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
+  std::uint8_t buffer[4096];
+  for (;;) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw std::runtime_error(fmt::format("hil: no end after {} s ({} samples exchanged)", options.timeout_seconds,
+                                           result.samples));
+    }
+    pollfd fds[3] = {{link_fd, POLLIN, 0}, {plant_fd, POLLIN, 0}, {out_fd, POLLIN, 0}};
+    if (::poll(fds, 3, 100) < 0 && errno != EINTR) fail("poll");
+    for (int k = 0; k < 3; ++k) {
+      if (fds[k].fd < 0 || (fds[k].revents & (POLLIN | POLLHUP)) == 0) continue;
+      const ssize_t n = ::read(fds[k].fd, buffer, sizeof(buffer));
+      int& fd = k == 0 ? link_fd : k == 1 ? plant_fd : out_fd;
+      if (n <= 0) {
+        ::close(fd);
+        fd = -1;
+        continue;
+      }
+      const auto size = static_cast<std::size_t>(n);
+      if (k == 0) {
+        feed_link(link_decoder, buffer, size, result);
+      } else if (k == 1) {
+        const auto reply = peer.receive(buffer, size);
+        if (!reply.empty()) write_all(plant_fd, reply);
+      } else {
+        result.console.append(reinterpret_cast<const char*>(buffer), size);
+      }
+    }
+    if (qemu <= 0) {  // attached
+      if (result.done >= 0) return;  // every report precedes kDone on the link
+      if (link_fd < 0 || plant_fd < 0) throw std::runtime_error("hil: QEMU closed a UART before the run ended");
+      continue;
+    }
+    int status = 0;
+    if (::waitpid(qemu, &status, WNOHANG) != qemu) continue;
+    qemu = -1;
+    result.qemu_exit = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    // Drain what QEMU wrote before it exited.
+    for (int* fd : {&link_fd, &out_fd}) {
+      if (*fd < 0) continue;
+      ::fcntl(*fd, F_SETFL, O_NONBLOCK);
+      for (ssize_t n = 0; (n = ::read(*fd, buffer, sizeof(buffer))) > 0;) {
+        if (fd == &link_fd) {
+          feed_link(link_decoder, buffer, static_cast<std::size_t>(n), result);
+        } else {
+          result.console.append(reinterpret_cast<const char*>(buffer), static_cast<std::size_t>(n));
+        }
+      }
+    }
+    return;
+  }
+}
+
 }  // namespace
 
 HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed) {
@@ -192,7 +314,11 @@ HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed
 }
 
 HilResult run_hil(const HilOptions& options) {
-  if (!std::filesystem::is_regular_file(options.firmware)) {
+  const bool attach = !options.attach_link.empty() || !options.attach_plant.empty();
+  if (attach && (options.attach_link.empty() || options.attach_plant.empty())) {
+    throw std::runtime_error("hil: attaching needs both sockets (link = UART0, plant = UART1)");
+  }
+  if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
   }
   const Scenario& scenario = find_scenario(options.scenario);
@@ -214,96 +340,13 @@ HilResult run_hil(const HilOptions& options) {
     std::filesystem::remove_all(dir, ec);
   };
   try {
-    UnixListener link_listener(dir / "link.sock");
-    UnixListener plant_listener(dir / "plant.sock");
-    // UART0 = link (commands, reports), UART1 = plant port; semihosting console on QEMU's stdout.
-    std::vector<std::string> args{options.qemu, "-machine", options.machine, "-nographic", "-monitor", "none",
-                                  "-serial", "unix:" + (dir / "link.sock").string(),
-                                  "-serial", "unix:" + (dir / "plant.sock").string(),
-                                  "-semihosting-config", "enable=on,target=native", "-kernel", options.firmware};
-    if (options.icount) {
-      // Deterministic virtual time (1 instruction = 1 ns): SysTick counts instructions / 40. QEMU then services the
-      // UARTs only between long runs of the vCPU, which makes every exchange slow.
-      args.insert(args.end() - 2, {"-icount", "shift=0"});
+    if (attach) {
+      link_fd = connect_with_timeout(options.attach_link, 10000);
+      plant_fd = connect_with_timeout(options.attach_plant, 10000);
+    } else {
+      start_qemu(options, dir, qemu, link_fd, plant_fd, out_fd);
     }
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    int pipe_fds[2];
-    if (::pipe2(pipe_fds, O_CLOEXEC) != 0) fail("pipe");
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
-    const int spawn_error = ::posix_spawnp(&qemu, options.qemu.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    ::close(pipe_fds[1]);
-    out_fd = pipe_fds[0];
-    if (spawn_error != 0) {
-      errno = spawn_error;
-      fail("cannot start " + options.qemu);
-    }
-    link_fd = accept_with_timeout(link_listener.fd(), 10000, "link (UART0)");
-    plant_fd = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
-
-    link::PayloadWriter start;
-    start.u8(static_cast<std::uint8_t>(link::Command::kStart));
-    write_all(link_fd, frame(link::MessageType::kCommand, start));
-
-    PlantPeer peer(scenario, options.seed, options.corrupt_every, result);
-    link::FrameDecoder link_decoder;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
-    std::uint8_t buffer[4096];
-    bool exited = false;
-    while (!exited) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        throw std::runtime_error(fmt::format("hil: no end after {} s ({} samples exchanged)",
-                                             options.timeout_seconds, result.samples));
-      }
-      pollfd fds[3] = {{link_fd, POLLIN, 0}, {plant_fd, POLLIN, 0}, {out_fd, POLLIN, 0}};
-      if (::poll(fds, 3, 100) < 0 && errno != EINTR) fail("poll");
-      for (int k = 0; k < 3; ++k) {
-        if ((fds[k].revents & (POLLIN | POLLHUP)) == 0 || fds[k].fd < 0) continue;
-        const ssize_t n = ::read(fds[k].fd, buffer, sizeof(buffer));
-        if (n <= 0) {
-          ::close(fds[k].fd);
-          (k == 0 ? link_fd : k == 1 ? plant_fd : out_fd) = -1;
-          continue;
-        }
-        const auto size = static_cast<std::size_t>(n);
-        if (k == 0) {
-          for (std::size_t i = 0; i < size; ++i) {
-            const auto r = link_decoder.push(buffer[i]);
-            if (r == link::FrameDecoder::Result::kFrame) collect(link_decoder.frame(), result);
-            if (r == link::FrameDecoder::Result::kDropped) ++result.protocol_errors;
-          }
-        } else if (k == 1) {
-          const auto reply = peer.receive(buffer, size);
-          if (!reply.empty()) write_all(plant_fd, reply);
-        } else {
-          result.console.append(reinterpret_cast<const char*>(buffer), size);
-        }
-      }
-      int status = 0;
-      if (::waitpid(qemu, &status, WNOHANG) == qemu) {
-        exited = true;
-        qemu = -1;
-        result.qemu_exit = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        // Drain what QEMU wrote before it exited.
-        for (int* fd : {&link_fd, &out_fd}) {
-          if (*fd < 0) continue;
-          ::fcntl(*fd, F_SETFL, O_NONBLOCK);
-          for (ssize_t n = 0; (n = ::read(*fd, buffer, sizeof(buffer))) > 0;) {
-            for (ssize_t i = 0; i < n && fd == &link_fd; ++i) {
-              if (link_decoder.push(buffer[i]) == link::FrameDecoder::Result::kFrame) {
-                collect(link_decoder.frame(), result);
-              }
-            }
-            if (fd == &out_fd) result.console.append(reinterpret_cast<const char*>(buffer), static_cast<std::size_t>(n));
-          }
-        }
-      }
-    }
+    run_session(options, scenario, qemu, link_fd, plant_fd, out_fd, result);
   } catch (...) {
     cleanup();
     throw;

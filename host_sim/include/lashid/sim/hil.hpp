@@ -13,7 +13,12 @@
 namespace lashid::sim {
 
 struct HilOptions {
-  std::string firmware;                 ///< the firmware ELF
+  std::string firmware;                 ///< the firmware ELF (QEMU is started with it, unless attaching)
+  /// Attach instead of starting QEMU: the Unix sockets of a QEMU started by the user with
+  /// `-serial unix:LINK,server=on,wait=off -serial unix:PLANT,server=on,wait=off` (UART0, UART1). The session
+  /// ends at the firmware's kDone frame; QEMU's exit status is then unknown (qemu_exit stays -1).
+  std::string attach_link;
+  std::string attach_plant;
   std::string scenario;                 ///< the plant the host plays (dis_paper, ais_paper, ...)
   std::uint64_t seed = 1;
   std::string machine = "mps2-an386";   ///< QEMU machine
