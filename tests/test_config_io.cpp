@@ -12,6 +12,8 @@
 
 #include "lashid/sim/config.hpp"
 
+#include "data_error_matchers.hpp"
+
 namespace lashid::sim {
 namespace {
 
@@ -20,21 +22,9 @@ using nlohmann::json;
 
 constexpr std::string_view kSource = "cfg.json";
 
-::testing::AssertionResult Contains(std::string_view text, std::string_view part) {
-  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
+using test::Contains;
+using test::error_of;
 
-template <class Action>
-std::string error_of(Action&& action) {
-  try {
-    action();
-  } catch (const DataError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "expected a DataError";
-  return {};
-}
 
 // The example of docs/data-format.md.
 json valid_document() {

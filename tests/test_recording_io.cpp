@@ -16,6 +16,8 @@
 
 #include "lashid/sim/recording.hpp"
 
+#include "data_error_matchers.hpp"
+
 namespace lashid::sim {
 namespace {
 
@@ -23,22 +25,9 @@ namespace fs = std::filesystem;
 
 constexpr std::string_view kSource = "rec.csv";
 
-::testing::AssertionResult Contains(std::string_view text, std::string_view part) {
-  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
+using test::Contains;
+using test::error_of;
 
-// Message of the DataError thrown by `action`, or a test failure if it throws none.
-template <class Action>
-std::string error_of(Action&& action) {
-  try {
-    action();
-  } catch (const DataError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "expected a DataError";
-  return {};
-}
 
 std::string parse_error(std::string_view text) {
   return error_of([&] { parse_recording_csv(text, kSource); });

@@ -49,6 +49,38 @@ void print_points(const char* title, const std::vector<double>& V, const std::ve
   }
 }
 
+// One of the paper's two examples and the numbers it prints.
+struct PaperExample {
+  const char* scenario;
+  est::Scheme scheme;
+  const char* title;
+  const char* theta_label;
+  std::span<const double> theta;
+  double ybar0;
+  const char* linear_table;
+  std::span<const double> table_a, table_b;
+  const char* border_table;
+  std::span<const double> border_true, border_estimate;
+};
+
+// Identifies the example on the simulator and prints it beside the paper's numbers and the truth.
+SchemeResult report_example(const PaperExample& x, const ScenarioRun& run) {
+  const Scenario& s = find_scenario(x.scenario);
+  const bool dis = x.scheme == est::Scheme::kDescending;
+  const SchemeResult r = identify_scenario(s, x.scheme, run);
+  fmt::print("== {}: {} (seed {}) ==\n", x.title, s.description, run.seed);
+  print_scheme_result(s.config, r);
+  fmt::print("  ybar0: ours {:.3f}, paper {:.2f}, true {:.3f}\n", r.ybar0, x.ybar0,
+             *(dis ? s.config.truth->ybar0_d : s.config.truth->ybar0_a));
+  fmt::print("  {}:\n", x.theta_label);
+  print_theta(r, x.theta, true_theta(s.config, x.scheme));
+  fmt::print("  {}: a = ({:.4f}, {:.4f}) paper ({}, {});  b = ({:.4f}, {:.4f}) paper ({}, {})\n", x.linear_table,
+             r.a[0], r.a[1], x.table_a[0], x.table_a[1], r.b[0], r.b[1], x.table_b[0], x.table_b[1]);
+  print_points(x.border_table, dis ? s.config.V_d : s.config.V_a, dis ? s.config.truth->F_d : s.config.truth->F_a,
+               x.border_true, r.F, x.border_estimate);
+  return r;
+}
+
 nlohmann::json summary_json(const MonteCarloSummary& mc) {
   return {{"runs", mc.runs},
           {"N", mc.pulse_length},
@@ -64,40 +96,21 @@ int run_reproduce(const ReproduceArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json out;
   const Scenario& dis_s = find_scenario("dis_paper");
-  const Scenario& ais_s = find_scenario("ais_paper");
   ScenarioRun run;
   run.seed = args.seed;
 
-  // --- DIS, Section 3.5 -------------------------------------------------------------------------------------
-  const SchemeResult dis = identify_scenario(dis_s, est::Scheme::kDescending, run);
-  const auto dis_truth = true_theta(dis_s.config, est::Scheme::kDescending);
-  fmt::print("== DIS, paper Section 3.5: {} (seed {}) ==\n", dis_s.description, args.seed);
-  print_scheme_result(dis_s.config, dis);
-  fmt::print("  ybar0: ours {:.3f}, paper {:.2f}, true {:.3f}\n", dis.ybar0, paper::kDisYbar0,
-             *dis_s.config.truth->ybar0_d);
-  fmt::print("  Theta^d, paper (3.33):\n");
-  print_theta(dis, paper::kDisTheta, dis_truth);
-  fmt::print("  Table 1: a = ({:.4f}, {:.4f}) paper ({}, {});  b = ({:.3f}, {:.3f}) paper ({}, {})\n", dis.a[0],
-             dis.a[1], paper::kDisTable1A[0], paper::kDisTable1A[1], dis.b[0], dis.b[1], paper::kDisTable1B[0],
-             paper::kDisTable1B[1]);
-  print_points("Table 2: F^d(V_j)", dis_s.config.V_d, dis_s.config.truth->F_d, paper::kDisTable2True, dis.F,
-               paper::kDisTable2Estimate);
+  const PaperExample dis_example{"dis_paper", est::Scheme::kDescending, "DIS, paper Section 3.5", "Theta^d, paper (3.33)",
+                                 paper::kDisTheta, paper::kDisYbar0, "Table 1", paper::kDisTable1A,
+                                 paper::kDisTable1B, "Table 2: F^d(V_j)", paper::kDisTable2True,
+                                 paper::kDisTable2Estimate};
+  const PaperExample ais_example{"ais_paper", est::Scheme::kAscending, "AIS, paper Section 4.2",
+                                 "Theta^a, paper Section 4.2", paper::kAisTheta, paper::kAisYbar0, "Table 4",
+                                 paper::kAisTable4A, paper::kAisTable4B, "Table 5: F^a(V_j)", paper::kAisTable5True,
+                                 paper::kAisTable5Estimate};
+  const SchemeResult dis = report_example(dis_example, run);
   out["dis"] = to_json(dis);
-
-  // --- AIS, Section 4.2 -------------------------------------------------------------------------------------
-  const SchemeResult ais = identify_scenario(ais_s, est::Scheme::kAscending, run);
-  const auto ais_truth = true_theta(ais_s.config, est::Scheme::kAscending);
-  fmt::print("\n== AIS, paper Section 4.2: {} (seed {}) ==\n", ais_s.description, args.seed);
-  print_scheme_result(ais_s.config, ais);
-  fmt::print("  ybar0: ours {:.3f}, paper {:.2f}, true {:.3f}\n", ais.ybar0, paper::kAisYbar0,
-             *ais_s.config.truth->ybar0_a);
-  fmt::print("  Theta^a, paper Section 4.2:\n");
-  print_theta(ais, paper::kAisTheta, ais_truth);
-  fmt::print("  Table 4: a = ({:.4f}, {:.4f}) paper ({}, {});  b = ({:.4f}, {:.4f}) paper ({}, {})\n", ais.a[0],
-             ais.a[1], paper::kAisTable4A[0], paper::kAisTable4A[1], ais.b[0], ais.b[1], paper::kAisTable4B[0],
-             paper::kAisTable4B[1]);
-  print_points("Table 5: F^a(V_j)", ais_s.config.V_a, ais_s.config.truth->F_a, paper::kAisTable5True, ais.F,
-               paper::kAisTable5Estimate);
+  fmt::print("\n");
+  const SchemeResult ais = report_example(ais_example, run);
   out["ais"] = to_json(ais);
 
   // --- Table 3: input dynamics before the backlash ----------------------------------------------------------
@@ -139,7 +152,8 @@ int run_reproduce(const ReproduceArgs& args) {
   ScenarioRun f32 = run;
   f32.precision = Precision::kFloat;
   const double dis_f = relative_difference(identify_scenario(dis_s, est::Scheme::kDescending, f32).theta, dis.theta);
-  const double ais_f = relative_difference(identify_scenario(ais_s, est::Scheme::kAscending, f32).theta, ais.theta);
+  const double ais_f =
+      relative_difference(identify_scenario(find_scenario("ais_paper"), est::Scheme::kAscending, f32).theta, ais.theta);
   fmt::print("\n== float32 recursive estimate vs double: ||dTheta|| / ||Theta|| = {:.2g} (DIS), {:.2g} (AIS) ==\n",
              dis_f, ais_f);
   out["float32_relative_difference"] = {{"dis", dis_f}, {"ais", ais_f}};
