@@ -65,7 +65,7 @@ class SchemeIdentifier {
     builder_.push(v_tilde, y_tilde);
     if (s != Status::kOk) return s;
     if (!std::isfinite(v) || !std::isfinite(y)) return Status::kNonFinite;
-    if (builder_.basis().classify(v_tilde) == Builder::Basis::kOffDesign) return Status::kInputOffDesign;
+    if (builder_.newest_class() == Builder::Basis::kOffDesign) return Status::kInputOffDesign;
     return Status::kOk;
   }
 

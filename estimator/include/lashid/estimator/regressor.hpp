@@ -52,11 +52,15 @@ class RegressorBuilder {
 
   void reset() { filled_ = 0; }
 
+  /// basis().classify() of the newest centred input, as computed by push() (meaningful after the first push()).
+  int newest_class() const { return class_[0]; }
+
   /// Sparse Phi(t) for the next sample. kInputOffDesign when a lag is off the design or two lags hold pulses.
   Status sparse(SparseRegressor<Scalar, N, M>& row) const {
     if (!ready()) return Status::kNotExcited;
     row.input_column = -1;
     row.input_value = Scalar(0);
+#pragma GCC unroll 8  // rolled, this loop over the n lags costs ~10 more instructions per sample (Cortex-M4F)
     for (int i = 0; i < N; ++i) {
       row.phi_y(i) = -y_(i);
       const int l = class_[i];
