@@ -64,6 +64,8 @@ class Cli : public ::testing::Test {
   // Per-test directories: ctest runs the tests of this file in parallel processes. The program runs in
   // work_ (so relative paths in its arguments land there); its captured output goes beside work_.
   void SetUp() override {
+    // One clear message instead of every check failing with the shell's "not found" (exit code 127).
+    ASSERT_TRUE(fs::is_regular_file(LASHID_EXE)) << LASHID_EXE << " does not exist: build the lashid target";
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     dir_ = fs::temp_directory_path() /
            (std::string("lashid_test_cli_") + info->name() + "_" + std::to_string(::getpid()));
