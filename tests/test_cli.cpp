@@ -177,10 +177,12 @@ TEST_F(Cli, NoSubcommandOrUnknownOptionFails) {
 }
 
 TEST_F(Cli, NegativeSeedIsRejectedInsteadOfWrappingAround) {
-  for (const char* subcommand : {"simulate", "reproduce"}) {
-    const Outcome r = subcommand == std::string("simulate")
-                      ? run({"simulate", "--scenario", "dis_paper", "--seed", "-1", "--out", "rec.csv"})
-                      : run({"reproduce", "--seed", "-1", "--runs", "10"});
+  for (const char* subcommand : {"simulate", "reproduce", "hil"}) {
+    const std::string name = subcommand;
+    const Outcome r = name == "simulate"  ? run({"simulate", "--scenario", "dis_paper", "--seed", "-1", "--out", "rec.csv"})
+                      : name == "reproduce" ? run({"reproduce", "--seed", "-1", "--runs", "10"})
+                                            : run({"hil", "--attach", "a.sock", "b.sock", "--scenario", "dis_paper",
+                                                   "--seed", "-1"});
     EXPECT_NE(r.exit_code, 0) << subcommand << ": " << r;
     EXPECT_TRUE(Contains(r.err, "--seed")) << subcommand;
   }
@@ -349,6 +351,22 @@ TEST_F(CliBadInput, JsonIntoMissingDirectoryFailsAndWritesNothing) {
   // temporary file or the directory itself.
   EXPECT_EQ(files_below(work_), before);
   EXPECT_FALSE(fs::exists(work_ / "nodir"));
+}
+
+TEST_F(CliBadInput, JsonOntoADirectoryIsRefusedClearly) {
+  fs::create_directories(work_ / "est.json");
+  const Outcome r = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"});
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "est.json"));
+  EXPECT_TRUE(Contains(r.err, "is a directory")) << r;
+}
+
+TEST_F(Cli, SimulateWritesNeitherFileWhenOneCannotBeWritten) {
+  // The recording's directory does not exist: the config must not be left behind alone.
+  const Outcome r = run({"simulate", "--scenario", "dis_paper", "--out", "nodir/rec.csv", "--config-out", "cfg.json"});
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "nodir/rec.csv"));
+  EXPECT_TRUE(files_below(work_).empty()) << r;
 }
 
 }  // namespace

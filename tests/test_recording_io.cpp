@@ -301,14 +301,15 @@ TEST_F(RecordingFiles, WriteIntoMissingDirectoryCreatesNothing) {
   EXPECT_EQ(entries_in_dir(), 0U);
 }
 
-TEST_F(RecordingFiles, FailedRenameLeavesNoTemporary) {
-  // The target is an existing non-empty directory: the temporary is written, the rename fails.
+TEST_F(RecordingFiles, DirectoryAtTheTargetIsRefusedAndLeavesNothing) {
+  // The target is an existing non-empty directory: refused with a clear message before anything is written
+  // (it used to surface as a failed rename, "cannot replace file: Device or resource busy").
   const fs::path blocking = dir_ / "data.csv";
   fs::create_directories(blocking / "child");
   Recording recording;
   recording.append(Phase::kVal, 1.0, 2.0);
   EXPECT_TRUE(Contains(error_of([&] { write_recording_csv(blocking, recording, {}); }),
-                       blocking.string() + ": cannot replace file"));
+                       blocking.string() + ": cannot write: it is a directory, not a file"));
   EXPECT_EQ(entries_in_dir(), 1U);  // only the blocking directory
   EXPECT_TRUE(fs::is_directory(blocking / "child"));
 }

@@ -1,4 +1,6 @@
 // `lashid scenarios`, `lashid simulate`, `lashid identify`.
+#include <filesystem>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -30,13 +32,21 @@ int run_simulate(const SimulateArgs& args) {
       fmt::format("lashid simulate --scenario {} --seed {}", scenario.name, args.seed),
       scenario.description,
       fmt::format("noise variance {}, input lag lambda {}", scenario.noise_variance, args.input_lag)};
-  // Write the config first: if it fails, no recording without its config is left behind.
+  // Nothing half-written: both destinations are checked before either is written, and if the recording still
+  // fails (e.g. a full disk), the config just written is removed again.
+  check_can_write(args.data_out);
+  if (!args.config_out.empty()) check_can_write(args.config_out);
   if (!args.config_out.empty()) {
     ExperimentConfig config = scenario.config;
     if (args.input_lag != 0) config.truth.reset();  // the truth of the nominal plant no longer applies
     write_json_file(args.config_out, to_json(config));
   }
-  write_recording_csv(args.data_out, rec, comments);
+  try {
+    write_recording_csv(args.data_out, rec, comments);
+  } catch (...) {
+    if (!args.config_out.empty()) std::filesystem::remove(args.config_out);
+    throw;
+  }
   fmt::print("wrote {} ({} samples){}\n", args.data_out, rec.size(),
              args.config_out.empty() ? "" : fmt::format(" and {}", args.config_out));
   return 0;

@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   });
   hil_cmd->add_option("--scenario", hil.scenario, "Plant played by the host (must match the firmware's config)")
       ->required();
-  hil_cmd->add_option("--seed", hil.seed, "Noise seed of the plant")->capture_default_str();
+  hil_cmd->add_option("--seed", hil.seed, "Noise seed of the plant")->check(kNonNegativeSeed)->capture_default_str();
   hil_cmd->add_option("--machine", hil.machine, "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3)")
       ->capture_default_str();
   hil_cmd->add_option("--qemu", hil.qemu, "QEMU executable")->capture_default_str();

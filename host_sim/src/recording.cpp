@@ -285,9 +285,11 @@ void write_recording_csv(const fs::path& path, const Recording& recording,
   write_file_atomically(path, content);
 }
 
-void write_file_atomically(const fs::path& path, std::string_view content) {
+void check_can_write(const fs::path& path) {
   const std::string name = path.string();
   if (!path.has_filename()) throw DataError(name, "cannot write: the path names a directory, not a file");
+  std::error_code ignored;
+  if (fs::is_directory(path, ignored)) throw DataError(name, "cannot write: it is a directory, not a file");
   const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code error;
   const fs::file_status directory_status = fs::status(directory, error);
@@ -297,7 +299,12 @@ void write_file_atomically(const fs::path& path, std::string_view content) {
   if (!fs::is_directory(directory_status)) {
     throw DataError(name, fmt::format("cannot write: '{}' is not a directory", directory.string()));
   }
+}
 
+void write_file_atomically(const fs::path& path, std::string_view content) {
+  check_can_write(path);
+  const std::string name = path.string();
+  std::error_code error;
   const fs::path temporary = temporary_sibling(path);
   TemporaryFileGuard guard(temporary);
   {

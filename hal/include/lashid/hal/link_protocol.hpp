@@ -36,12 +36,12 @@ enum class MessageType : std::uint8_t {
 enum class Command : std::uint8_t { kStart = 1, kStop = 2, kQuery = 3 };
 
 /// CRC-16/CCITT-FALSE, bitwise (small code; a table would cost 512 bytes of flash for no measurable gain here).
+/// The arithmetic is in `unsigned` (no signed promotions): bits above 15 only ever move left, never into the low
+/// 16, so masking once at the end is exact.
 constexpr std::uint16_t crc16(std::uint16_t crc, std::uint8_t byte) {
-  crc = static_cast<std::uint16_t>(crc ^ static_cast<std::uint16_t>(byte << 8));
-  for (int bit = 0; bit < 8; ++bit) {
-    crc = (crc & 0x8000U) != 0 ? static_cast<std::uint16_t>((crc << 1) ^ 0x1021U) : static_cast<std::uint16_t>(crc << 1);
-  }
-  return crc;
+  unsigned c = static_cast<unsigned>(crc) ^ (static_cast<unsigned>(byte) << 8U);
+  for (int bit = 0; bit < 8; ++bit) c = (c & 0x8000U) != 0U ? (c << 1U) ^ 0x1021U : c << 1U;
+  return static_cast<std::uint16_t>(c & 0xFFFFU);
 }
 static_assert(crc16(crc16(crc16(crc16(crc16(crc16(crc16(crc16(crc16(0xFFFF, '1'), '2'), '3'), '4'), '5'), '6'), '7'),
                                 '8'),
@@ -83,8 +83,8 @@ class PayloadReader {
   PayloadReader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
   std::uint8_t u8() { return get(); }
   std::uint16_t u16() {
-    const std::uint16_t lo = get();
-    return static_cast<std::uint16_t>(lo | static_cast<std::uint16_t>(get() << 8));
+    const unsigned lo = get();
+    return static_cast<std::uint16_t>(lo | (static_cast<unsigned>(get()) << 8U));
   }
   std::uint32_t u32() {
     std::uint32_t x = 0;
@@ -185,7 +185,7 @@ class FrameDecoder {
         return Result::kNeedMore;
       case State::kCrcHi:
         state_ = State::kHunt0;
-        if (static_cast<std::uint16_t>(crc_lo_ | (byte << 8)) != crc_) {
+        if (static_cast<std::uint16_t>(static_cast<unsigned>(crc_lo_) | (static_cast<unsigned>(byte) << 8U)) != crc_) {
           ++crc_errors_;
           return Result::kDropped;
         }

@@ -87,6 +87,9 @@ void write_recording_csv(const std::filesystem::path& path, const Recording& rec
                          const std::vector<std::string>& comment_lines);
 
 // Reads a whole file as bytes. Throws DataError naming `path` (not found, a directory, unreadable).
+// Throws DataError when `path` cannot be written as a file: it names a directory, or its directory is missing.
+// write_file_atomically() checks this first; a command writing several files checks them all before writing any.
+void check_can_write(const std::filesystem::path& path);
 std::string read_file_text(const std::filesystem::path& path);
 
 // Writes `content` to a temporary file next to `path`, then renames it onto `path`, so readers
