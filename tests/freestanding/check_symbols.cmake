@@ -5,8 +5,9 @@ foreach(object IN LISTS OBJECTS)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "${NM} failed on ${object}")
   endif()
-  string(REGEX MATCHALL "[^\n]*(malloc|calloc|realloc|free|_sbrk|operator new|operator delete|__cxa_throw|__cxa_allocate_exception|__cxa_begin_catch|__gxx_personality|typeinfo|__dynamic_cast)[^\n]*"
-         offending "${undefined}")
+  # Whole symbol names after nm's "U ": a substring would also match e.g. __asan_stack_malloc_1.
+  string(REGEX MATCHALL "U (malloc|calloc|realloc|free|_sbrk|operator new[^\n]*|operator delete[^\n]*|__cxa_throw|__cxa_allocate_exception|__cxa_begin_catch|__cxa_guard_acquire|__cxa_guard_release|__gxx_personality_v0|typeinfo[^\n]*|__dynamic_cast)\n"
+         offending "${undefined}\n")
   if(offending)
     string(REPLACE ";" "\n" offending "${offending}")
     message(FATAL_ERROR "${object} needs heap/exception/RTTI symbols:\n${offending}")
