@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "report.hpp"
 #include "lashid/estimator/status.hpp"
 #include "lashid/sim/config.hpp"
 #include "lashid/sim/hil.hpp"
@@ -135,14 +136,7 @@ int run_hil_command(const HilArgs& args) {
     const HilResult host = run_on_host_board(args.scenario, args.seed);
     double worst = 0;
     for (std::size_t s = 0; s < r.estimates.size() && s < host.estimates.size(); ++s) {
-      const auto q = flatten(r.estimates[s]);
-      const auto h = flatten(host.estimates[s]);
-      double num = 0, den = 0;
-      for (std::size_t k = 0; k < h.size(); ++k) {
-        num += (q[k] - h[k]) * (q[k] - h[k]);
-        den += h[k] * h[k];
-      }
-      worst = std::fmax(worst, std::sqrt(num / den));
+      worst = std::fmax(worst, relative_difference(flatten(r.estimates[s]), flatten(host.estimates[s])));
     }
     const bool same = host.estimates.size() == r.estimates.size() && worst <= args.tolerance &&
                       host.samples == r.samples;

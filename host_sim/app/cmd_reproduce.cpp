@@ -20,15 +20,6 @@ using namespace lashid::sim;
 
 namespace {
 
-double relative_difference(std::span<const double> x, std::span<const double> ref) {
-  double num = 0, den = 0;
-  for (std::size_t k = 0; k < ref.size(); ++k) {
-    num += (x[k] - ref[k]) * (x[k] - ref[k]);
-    den += ref[k] * ref[k];
-  }
-  return std::sqrt(num / den);
-}
-
 void print_theta(const SchemeResult& r, std::span<const double> paper_theta, const std::vector<double>& truth) {
   fmt::print("  {:<4}{:>11}{:>10}{:>11}{:>11}\n", "k", "ours", "std.err", "paper", "true");
   for (std::size_t k = 0; k < r.theta.size(); ++k) {

@@ -102,7 +102,8 @@ class IdentificationSequencer {
 
   /// One plant exchange at the next sample instant. False (and the run is finished) on a board failure.
   bool exchange(float v, float& y) {
-    if (board_.wait_for_sample_tick() == hal::Status::kTimeout) ++overruns_;
+    // A late tick (kTimeout) is not an error: the sample is taken late. Boards count overruns themselves.
+    (void)board_.wait_for_sample_tick();
     if (board_.actuate(v) != hal::Status::kOk) {
       finish(RunStatus::kActuatorFault);
       return false;
@@ -179,22 +180,23 @@ class IdentificationSequencer {
     return true;
   }
 
+  /// se(b_i) = |W_1| se(mu_i1) by (3.22a) / Remark 3a, and |W_1| = v_M - v_m in both schemes.
+  static float se_b(const Estimate& e, int i) { return (C::kVMax - C::kVMin) * e.ls.std_error(N + i); }
+
   // Remark 3b: both schemes estimate a and b; compare them in units of their combined standard error.
-  // se(b_i) = |W_1| se(mu_i1), and |W_1| = v_M - v_m in both schemes.
   void compute_cross_check() {
     cross_.threshold = C::kCrossCheckSigmas;
     if (dis_.status != est::Status::kOk || ais_.status != est::Status::kOk) {
       cross_.max_z = -1.0f;  // not available
       return;
     }
-    const float w1 = C::kVMax - C::kVMin;
     for (int k = 0; k < 2 * N; ++k) {
       const bool is_a = k < N;
       const int i = is_a ? k : k - N;
       const float xd = is_a ? dis_.a(i) : dis_.b(i);
       const float xa = is_a ? ais_.a(i) : ais_.b(i);
-      const float sd = is_a ? dis_.ls.std_error(i) : w1 * dis_.ls.std_error(N + i);
-      const float sa = is_a ? ais_.ls.std_error(i) : w1 * ais_.ls.std_error(N + i);
+      const float sd = is_a ? dis_.ls.std_error(i) : se_b(dis_, i);
+      const float sa = is_a ? ais_.ls.std_error(i) : se_b(ais_, i);
       const float z = std::fabs(xd - xa) / std::sqrt(sd * sd + sa * sa);
       if (z > cross_.max_z) {
         cross_.max_z = z;
@@ -212,13 +214,12 @@ class IdentificationSequencer {
     r.m = M;
     r.ybar0 = e.ybar0;
     r.noise_variance = e.ls.noise_variance;
-    const float w1 = C::kVMax - C::kVMin;
     for (int i = 0; i < N; ++i) {
       const auto k = static_cast<std::size_t>(i);
       r.a[k] = e.a(i);
       r.se_a[k] = e.ls.std_error(i);
       r.b[k] = e.b(i);
-      r.se_b[k] = w1 * e.ls.std_error(N + i);
+      r.se_b[k] = se_b(e, i);
     }
     for (int j = 0; j < M; ++j) r.F[static_cast<std::size_t>(j)] = e.F(j);
     return r;
@@ -296,7 +297,6 @@ class IdentificationSequencer {
   RunStatus result_ = RunStatus::kOk;
   std::int64_t t_ = 0;
   std::uint8_t seq_ = 0;
-  std::uint32_t overruns_ = 0;
   Identifier identifier_{};
   est::ExcitationGenerator<float, N, M> generator_{design(est::Scheme::kDescending)};
   Estimate latest_{};
