@@ -1,0 +1,500 @@
+// Residual statistics against closed forms, published table values and hand computations; the Monte-Carlo
+// tests check calibration (p-values of true null hypotheses are uniform) and sample moments.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "lashid/sim/linear_plant.hpp"
+#include "lashid/sim/statistics.hpp"
+
+namespace lashid::sim::stats {
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// |actual - expected| <= tolerance * |expected|.
+::testing::AssertionResult relatively_near(double actual, double expected, double tolerance) {
+  if (std::fabs(actual - expected) <= tolerance * std::fabs(expected)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "actual " << actual << " vs expected " << expected << " (relative error "
+                                       << std::fabs(actual - expected) / std::fabs(expected) << " > " << tolerance
+                                       << ")";
+}
+
+std::vector<double> white_noise(std::size_t n, std::uint64_t seed) {
+  GaussianNoise noise(1.0, seed);
+  std::vector<double> x(n);
+  for (double& v : x) v = noise.next();
+  return x;
+}
+
+std::vector<double> ar1(std::size_t n, double phi, std::uint64_t seed) {
+  GaussianNoise noise(1.0, seed);
+  std::vector<double> x(n);
+  // Start in the stationary distribution, variance 1 / (1 - phi^2).
+  double previous = noise.next() / std::sqrt(1.0 - phi * phi);
+  for (double& v : x) {
+    v = phi * previous + noise.next();
+    previous = v;
+  }
+  return x;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(NormalCdf, TableValuesAndSymmetry) {
+  EXPECT_TRUE(relatively_near(normal_cdf(-1.0), 0.15865525393145707, 1e-14));
+  EXPECT_TRUE(relatively_near(normal_cdf(1.0), 1.0 - 0.15865525393145707, 1e-15));
+  EXPECT_EQ(normal_cdf(0.0), 0.5);
+  EXPECT_NEAR(normal_cdf(1.959963984540054), 0.975, 1e-15);
+  EXPECT_TRUE(relatively_near(normal_cdf(-10.0), 7.619853024160527e-24, 1e-12));  // lower tail keeps accuracy
+  EXPECT_EQ(normal_cdf(-inf), 0.0);
+  EXPECT_EQ(normal_cdf(inf), 1.0);
+  EXPECT_THROW(normal_cdf(nan), std::invalid_argument);
+}
+
+TEST(NormalQuantile, TableValues) {
+  EXPECT_TRUE(relatively_near(normal_quantile(0.975), 1.959963984540054, 1e-14));
+  EXPECT_TRUE(relatively_near(normal_quantile(0.025), -1.959963984540054, 1e-14));
+  EXPECT_TRUE(relatively_near(normal_quantile(0.995), 2.5758293035489, 1e-13));
+  EXPECT_TRUE(relatively_near(normal_quantile(0.9), 1.2815515655446004, 1e-14));
+  EXPECT_TRUE(relatively_near(normal_quantile(0.999), 3.090232306167813, 1e-13));
+  EXPECT_EQ(normal_quantile(0.5), 0.0);
+}
+
+TEST(NormalQuantile, InvertsTheCdfDeepInTheTails) {
+  for (const double p : {1e-300, 1e-100, 1e-20, 1e-8, 1e-3, 0.01, 0.3, 0.49999}) {
+    const double z = normal_quantile(p);
+    // Conditioning: a relative error d in z changes Phi(z) by about z^2 d relatively (|z| = 37 at 1e-300).
+    EXPECT_TRUE(relatively_near(normal_cdf(z), p, 1e-14 * std::max(1.0, z * z))) << "p = " << p;
+    // Mirrored for the upper tail, where 1 - p is representable.
+    if (p >= 1e-8) {
+      EXPECT_EQ(normal_quantile(1.0 - p), -normal_quantile(1.0 - (1.0 - p))) << "p = " << p;
+    }
+  }
+}
+
+TEST(NormalQuantile, RejectsProbabilitiesOutsideTheOpenUnitInterval) {
+  for (const double p : {0.0, 1.0, -0.1, 1.5, nan}) EXPECT_THROW(normal_quantile(p), std::invalid_argument) << p;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(RegularizedGammaQ, ClosedFormsForAOneAndOneHalf) {
+  for (const double x : {0.0, 1e-6, 0.3, 1.0, 2.5, 7.0, 40.0, 300.0}) {
+    EXPECT_TRUE(relatively_near(regularized_gamma_q(1.0, x), std::exp(-x), 1e-13)) << "x = " << x;
+    EXPECT_TRUE(relatively_near(regularized_gamma_q(0.5, x), std::erfc(std::sqrt(x)), 1e-13)) << "x = " << x;
+  }
+  EXPECT_EQ(regularized_gamma_q(3.0, inf), 0.0);
+}
+
+TEST(RegularizedGammaQ, RejectsBadArguments) {
+  EXPECT_THROW(regularized_gamma_q(0.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(regularized_gamma_q(-1.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(regularized_gamma_q(1.0, -1.0), std::invalid_argument);
+  EXPECT_THROW(regularized_gamma_q(nan, 1.0), std::invalid_argument);
+  EXPECT_THROW(regularized_gamma_q(1.0, nan), std::invalid_argument);
+}
+
+TEST(Chi2Sf, TwoDegreesOfFreedomIsExponential) {
+  for (const double x : {0.01, 0.5, 1.0, 3.0, 10.0, 100.0, 1000.0}) {
+    EXPECT_TRUE(relatively_near(chi2_sf(x, 2.0), std::exp(-x / 2.0), 1e-13)) << "x = " << x;
+  }
+}
+
+TEST(Chi2Sf, OneDegreeOfFreedomIsTheNormalTail) {
+  // P(Z^2 > x) = erfc(sqrt(x / 2)).
+  for (const double x : {1e-4, 0.2, 1.0, 3.0, 9.0, 50.0}) {
+    EXPECT_TRUE(relatively_near(chi2_sf(x, 1.0), std::erfc(std::sqrt(x / 2.0)), 1e-13)) << "x = " << x;
+  }
+}
+
+TEST(Chi2Sf, EvenDegreesOfFreedomMatchThePoissonSum) {
+  // For dof = 2k: P(X > x) = e^{-x/2} sum_{j<k} (x/2)^j / j! (A&S 26.4.21), summed here in log space.
+  for (const int k : {2, 5, 25, 100}) {
+    for (const double factor : {0.2, 0.7, 0.95, 1.0, 1.1, 1.5, 3.0}) {
+      const double y = factor * k;
+      double expected = 0.0;
+      for (int j = 0; j < k; ++j) {
+        expected += std::exp(-y + j * std::log(y) - std::lgamma(j + 1.0));
+      }
+      EXPECT_TRUE(relatively_near(chi2_sf(2.0 * y, 2.0 * k), expected, 1e-11)) << "dof " << 2 * k << ", x " << 2 * y;
+    }
+  }
+}
+
+TEST(Chi2Sf, PublishedCriticalValues) {
+  EXPECT_TRUE(relatively_near(chi2_sf(3.841458820694124, 1.0), 0.05, 1e-12));
+  EXPECT_TRUE(relatively_near(chi2_sf(18.307038053275146, 10.0), 0.05, 1e-12));
+  EXPECT_TRUE(relatively_near(chi2_sf(6.634896601021214, 1.0), 0.01, 1e-12));
+}
+
+TEST(Chi2Sf, EdgesAndBadArguments) {
+  EXPECT_EQ(chi2_sf(0.0, 3.0), 1.0);
+  EXPECT_EQ(chi2_sf(-1.0, 3.0), 1.0);
+  EXPECT_EQ(chi2_sf(inf, 3.0), 0.0);
+  EXPECT_THROW(chi2_sf(1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(chi2_sf(1.0, -2.0), std::invalid_argument);
+  EXPECT_THROW(chi2_sf(1.0, inf), std::invalid_argument);
+  EXPECT_THROW(chi2_sf(nan, 2.0), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(RegularizedBeta, ClosedForms) {
+  for (const double x : {0.0, 0.01, 0.2, 0.5, 0.77, 0.99, 1.0}) {
+    for (const double a : {0.5, 1.0, 3.0, 20.0}) {
+      // I_x(a, 1) = x^a, I_x(1, b) = 1 - (1 - x)^b.
+      EXPECT_NEAR(regularized_beta(a, 1.0, x), std::pow(x, a), 1e-14) << "a " << a << ", x " << x;
+      EXPECT_NEAR(regularized_beta(1.0, a, x), 1.0 - std::pow(1.0 - x, a), 1e-14) << "b " << a << ", x " << x;
+      EXPECT_NEAR(regularized_beta(a, a, 0.5), 0.5, 1e-14) << "a " << a;
+    }
+  }
+  // Relative accuracy in the far lower tail: I_x(a, 1) = x^a.
+  EXPECT_TRUE(relatively_near(regularized_beta(30.0, 1.0, 0.01), 1e-60, 1e-12));
+}
+
+TEST(RegularizedBeta, Symmetry) {
+  for (const double x : {0.05, 0.3, 0.6, 0.95}) {
+    EXPECT_NEAR(regularized_beta(2.5, 7.0, x), 1.0 - regularized_beta(7.0, 2.5, 1.0 - x), 1e-14) << x;
+  }
+}
+
+TEST(RegularizedBeta, RejectsBadArguments) {
+  EXPECT_THROW(regularized_beta(0.0, 1.0, 0.5), std::invalid_argument);
+  EXPECT_THROW(regularized_beta(1.0, -1.0, 0.5), std::invalid_argument);
+  EXPECT_THROW(regularized_beta(1.0, 1.0, -0.1), std::invalid_argument);
+  EXPECT_THROW(regularized_beta(1.0, 1.0, 1.1), std::invalid_argument);
+  EXPECT_THROW(regularized_beta(1.0, 1.0, nan), std::invalid_argument);
+}
+
+TEST(StudentT, ClosedFormsForOneAndTwoDegreesOfFreedom) {
+  for (const double t : {0.0, 0.1, 1.0, -2.5, 12.706204736174707, 1e3, -1e8}) {
+    // Cauchy: P(|T| > t) = 1 - 2 atan(|t|) / pi. Two dof: 1 - |t| / sqrt(2 + t^2).
+    const double cauchy = 1.0 - 2.0 * std::atan(std::fabs(t)) / std::numbers::pi;
+    const double two = 1.0 - std::fabs(t) / std::sqrt(2.0 + t * t);
+    EXPECT_NEAR(student_t_two_sided_p(t, 1.0), cauchy, 1e-14) << t;
+    EXPECT_NEAR(student_t_two_sided_p(t, 2.0), two, 1e-14) << t;
+  }
+  EXPECT_TRUE(relatively_near(student_t_two_sided_p(12.706204736174707, 1.0), 0.05, 1e-12));
+  // Far tail keeps relative accuracy: 2 dof, p = 1 - t / sqrt(2 + t^2) ~ 1 / t^2 for large t.
+  EXPECT_TRUE(relatively_near(student_t_two_sided_p(1e6, 2.0), 1.0 / (1e12 + 0.5), 1e-9));
+}
+
+TEST(StudentT, PublishedCriticalValue) {
+  EXPECT_TRUE(relatively_near(student_t_two_sided_p(2.228138851986, 10.0), 0.05, 1e-11));
+  EXPECT_TRUE(relatively_near(student_t_two_sided_p(-2.228138851986, 10.0), 0.05, 1e-11));
+  EXPECT_EQ(student_t_two_sided_p(0.0, 10.0), 1.0);
+  EXPECT_EQ(student_t_two_sided_p(inf, 10.0), 0.0);
+  EXPECT_THROW(student_t_two_sided_p(1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(student_t_two_sided_p(nan, 3.0), std::invalid_argument);
+}
+
+TEST(FisherF, PublishedCriticalValue) {
+  EXPECT_TRUE(relatively_near(f_sf(4.964602743730711, 1.0, 10.0), 0.05, 1e-12));
+}
+
+TEST(FisherF, ClosedFormsForTwoDegreesOfFreedom) {
+  for (const double d : {1.0, 3.0, 10.0, 55.0}) {
+    for (const double f : {0.01, 0.5, 1.0, 4.0, 30.0, 1e4}) {
+      // d1 = 2: P(F > f) = (1 + 2 f / d2)^{-d2/2}. d2 = 2: 1 - (d1 f / (2 + d1 f))^{d1/2}.
+      EXPECT_TRUE(relatively_near(f_sf(f, 2.0, d), std::pow(1.0 + 2.0 * f / d, -d / 2.0), 1e-12)) << d << " " << f;
+      EXPECT_NEAR(f_sf(f, d, 2.0), 1.0 - std::pow(d * f / (2.0 + d * f), d / 2.0), 1e-14) << d << " " << f;
+    }
+  }
+  EXPECT_TRUE(relatively_near(f_sf(1e6, 2.0, 10.0), std::pow(1.0 + 2e5, -5.0), 1e-11));  // ~3e-27
+}
+
+TEST(FisherF, OneNumeratorDegreeIsTheSquaredT) {
+  for (const double d : {1.0, 4.0, 10.0, 120.0}) {
+    for (const double f : {0.05, 1.0, 3.3, 25.0, 400.0}) {
+      EXPECT_TRUE(relatively_near(f_sf(f, 1.0, d), student_t_two_sided_p(std::sqrt(f), d), 1e-13)) << d << " " << f;
+    }
+  }
+}
+
+TEST(FisherF, EdgesAndBadArguments) {
+  EXPECT_EQ(f_sf(0.0, 3.0, 4.0), 1.0);
+  EXPECT_EQ(f_sf(-2.0, 3.0, 4.0), 1.0);
+  EXPECT_EQ(f_sf(inf, 3.0, 4.0), 0.0);
+  EXPECT_THROW(f_sf(1.0, 0.0, 4.0), std::invalid_argument);
+  EXPECT_THROW(f_sf(1.0, 3.0, -4.0), std::invalid_argument);
+  EXPECT_THROW(f_sf(nan, 3.0, 4.0), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(Autocorrelation, HandComputedAlternatingSeries) {
+  // x = (1, -1, 1, -1): mean 0, c0 = 4, r(1) = -3/4, r(2) = 2/4, r(3) = -1/4.
+  const std::vector<double> x{1.0, -1.0, 1.0, -1.0};
+  const std::vector<double> r = autocorrelation(x, 3);
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_DOUBLE_EQ(r[0], 1.0);
+  EXPECT_DOUBLE_EQ(r[1], -0.75);
+  EXPECT_DOUBLE_EQ(r[2], 0.5);
+  EXPECT_DOUBLE_EQ(r[3], -0.25);
+  // Removing the mean: an offset changes nothing.
+  const std::vector<double> shifted{11.0, 9.0, 11.0, 9.0};
+  const std::vector<double> rs = autocorrelation(shifted, 3);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(rs[k], r[k], 1e-15) << k;
+}
+
+TEST(Autocorrelation, Ar1MatchesPhiToTheLag) {
+  const std::vector<double> x = ar1(200000, 0.6, 7);
+  const std::vector<double> r = autocorrelation(x, 3);
+  EXPECT_EQ(r[0], 1.0);
+  EXPECT_NEAR(r[1], 0.6, 0.01);
+  EXPECT_NEAR(r[2], 0.36, 0.01);
+  EXPECT_NEAR(r[3], 0.216, 0.01);
+}
+
+TEST(Autocorrelation, RejectsBadArguments) {
+  const std::vector<double> x{1.0, 2.0, 4.0};
+  EXPECT_THROW(autocorrelation(x, 3), std::invalid_argument);
+  EXPECT_THROW(autocorrelation(x, -1), std::invalid_argument);
+  EXPECT_THROW(autocorrelation(std::vector<double>{1.0}, 0), std::invalid_argument);
+  EXPECT_THROW(autocorrelation(std::vector<double>{0.1, 0.1, 0.1}, 1), std::invalid_argument);
+  EXPECT_THROW(autocorrelation(std::vector<double>{1.0, nan, 2.0}, 1), std::invalid_argument);
+  EXPECT_NO_THROW(autocorrelation(x, 2));
+}
+
+TEST(CrossCorrelation, HandComputed) {
+  // e = (1, 0, -1), u = (0, 1, -1): both zero mean, sum e^2 = sum u^2 = 2, so r = (sum) / 2.
+  // k = 0: 1; k = 1: e(1)u(0) + e(2)u(1) = -1; k = -1: e(0)u(1) + e(1)u(2) = 1; k = 2: e(2)u(0) = 0;
+  // k = -2: e(0)u(2) = -1.
+  const std::vector<double> e{1.0, 0.0, -1.0};
+  const std::vector<double> u{0.0, 1.0, -1.0};
+  const std::vector<double> r = cross_correlation(e, u, 2);
+  ASSERT_EQ(r.size(), 5u);
+  EXPECT_DOUBLE_EQ(r[0], -0.5);  // k = -2
+  EXPECT_DOUBLE_EQ(r[1], 0.5);   // k = -1
+  EXPECT_DOUBLE_EQ(r[2], 0.5);   // k = 0
+  EXPECT_DOUBLE_EQ(r[3], -0.5);  // k = 1
+  EXPECT_DOUBLE_EQ(r[4], 0.0);   // k = 2
+}
+
+TEST(CrossCorrelation, DelayedCopyPeaksAtTheDelay) {
+  constexpr std::size_t n = 5000;
+  constexpr int max_lag = 10;
+  const std::vector<double> w = white_noise(n + 3, 11);
+  // e(t) = w(t), u(t) = w(t + 3), so e(t) = u(t - 3).
+  const std::vector<double> e(w.begin(), w.begin() + n);
+  const std::vector<double> u(w.begin() + 3, w.end());
+  const std::vector<double> r = cross_correlation(e, u, max_lag);
+  ASSERT_EQ(r.size(), 2u * max_lag + 1);
+  const double band = 4.0 / std::sqrt(static_cast<double>(n));
+  for (int k = -max_lag; k <= max_lag; ++k) {
+    const double value = r[static_cast<std::size_t>(k + max_lag)];
+    if (k == 3) {
+      EXPECT_NEAR(value, 1.0, 0.01);
+    } else {
+      EXPECT_LT(std::fabs(value), band) << "k = " << k;
+    }
+  }
+}
+
+TEST(CrossCorrelation, RejectsBadArguments) {
+  const std::vector<double> e{1.0, 2.0, 4.0};
+  EXPECT_THROW(cross_correlation(e, std::vector<double>{1.0, 2.0}, 0), std::invalid_argument);
+  EXPECT_THROW(cross_correlation(e, std::vector<double>{3.0, 3.0, 3.0}, 0), std::invalid_argument);
+  EXPECT_THROW(cross_correlation(e, std::vector<double>{3.0, 1.0, 2.0}, 3), std::invalid_argument);
+  EXPECT_THROW(cross_correlation(e, std::vector<double>{3.0, 1.0, 2.0}, -1), std::invalid_argument);
+  EXPECT_THROW(cross_correlation(e, std::vector<double>{3.0, inf, 2.0}, 1), std::invalid_argument);
+}
+
+TEST(CorrelationBand, NormalQuantileOverRootN) {
+  EXPECT_TRUE(relatively_near(correlation_band(100, 0.95), 0.1959963984540054, 1e-14));
+  EXPECT_TRUE(relatively_near(correlation_band(4, 0.99), 2.5758293035489 / 2.0, 1e-13));
+  EXPECT_THROW(correlation_band(0, 0.95), std::invalid_argument);
+  EXPECT_THROW(correlation_band(10, 1.0), std::invalid_argument);
+  EXPECT_THROW(correlation_band(10, 0.0), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(LjungBox, HandComputedAlternatingSeries) {
+  // r(1) = -3/4, r(2) = 1/2, N = 4: Q = 4 * 6 * (9/16 / 3 + 1/4 / 2) = 7.5, chi2(2) tail = exp(-7.5 / 2).
+  const std::vector<double> x{1.0, -1.0, 1.0, -1.0};
+  const PortmanteauTest test = ljung_box(x, 2);
+  EXPECT_DOUBLE_EQ(test.statistic, 7.5);
+  EXPECT_EQ(test.dof, 2);
+  EXPECT_TRUE(relatively_near(test.p_value, std::exp(-3.75), 1e-13));
+}
+
+TEST(LjungBox, WhiteNoisePValuesAreRoughlyUniform) {
+  constexpr int series = 400;
+  int below_005 = 0;
+  int below_050 = 0;
+  for (int i = 0; i < series; ++i) {
+    const PortmanteauTest test = ljung_box(white_noise(200, 1000 + static_cast<std::uint64_t>(i)), 10);
+    below_005 += test.p_value < 0.05 ? 1 : 0;
+    below_050 += test.p_value < 0.5 ? 1 : 0;
+  }
+  const double fraction_005 = below_005 / static_cast<double>(series);
+  const double fraction_050 = below_050 / static_cast<double>(series);
+  EXPECT_GE(fraction_005, 0.02);
+  EXPECT_LE(fraction_005, 0.09);
+  EXPECT_GE(fraction_050, 0.42);  // binomial standard deviation 0.025: 3.2 sigma
+  EXPECT_LE(fraction_050, 0.58);
+}
+
+TEST(LjungBox, DetectsAutocorrelation) {
+  EXPECT_LT(ljung_box(ar1(500, 0.5, 5), 10).p_value, 1e-10);
+}
+
+TEST(LjungBox, RejectsBadArguments) {
+  const std::vector<double> x{1.0, 3.0, 2.0, 5.0};
+  EXPECT_THROW(ljung_box(x, 0), std::invalid_argument);
+  EXPECT_THROW(ljung_box(x, 4), std::invalid_argument);
+  EXPECT_THROW(ljung_box(std::vector<double>{2.0, 2.0, 2.0, 2.0}, 1), std::invalid_argument);
+  EXPECT_NO_THROW(ljung_box(x, 3));
+}
+
+TEST(CrossCorrelationTest, HandComputed) {
+  // From CrossCorrelation.HandComputed: r_eu(0) = 1/2, r_eu(1) = -1/2, N = 3: S = 3 (1/4 + 1/4) = 1.5, dof 2.
+  const std::vector<double> e{1.0, 0.0, -1.0};
+  const std::vector<double> u{0.0, 1.0, -1.0};
+  const PortmanteauTest test = cross_correlation_test(e, u, 1);
+  EXPECT_DOUBLE_EQ(test.statistic, 1.5);
+  EXPECT_EQ(test.dof, 2);
+  EXPECT_TRUE(relatively_near(test.p_value, std::exp(-0.75), 1e-13));
+}
+
+TEST(CrossCorrelationTest, ColoredInputHandComputed) {
+  // r_u(1) = (u(1)u(0) + u(2)u(1)) / 2 = -1/2; R_u = [[1, -1/2], [-1/2, 1]], r = (1/2, -1/2):
+  // r^T R_u^{-1} r = (r0^2 - 2 rho r0 r1 + r1^2) / (1 - rho^2) = (1/4 - 1/4 + 1/4) / (3/4) = 1/3; zeta = 1.
+  const std::vector<double> e{1.0, 0.0, -1.0};
+  const std::vector<double> u{0.0, 1.0, -1.0};
+  const PortmanteauTest test = cross_correlation_test_colored_input(e, u, 1);
+  EXPECT_NEAR(test.statistic, 1.0, 1e-14);
+  EXPECT_EQ(test.dof, 2);
+  EXPECT_TRUE(relatively_near(test.p_value, std::exp(-0.5), 1e-13));
+  // With a single lag both statistics are N r_eu(0)^2.
+  EXPECT_DOUBLE_EQ(cross_correlation_test_colored_input(e, u, 0).statistic, 0.75);
+  EXPECT_DOUBLE_EQ(cross_correlation_test(e, u, 0).statistic, 0.75);
+}
+
+TEST(CrossCorrelationTest, IndependentWhiteSeriesGiveRoughlyUniformPValues) {
+  constexpr int series = 400;
+  int plain = 0;
+  int colored = 0;
+  for (int i = 0; i < series; ++i) {
+    const auto seed = static_cast<std::uint64_t>(i);
+    const std::vector<double> e = white_noise(300, 5000 + seed);
+    const std::vector<double> u = white_noise(300, 9000 + seed);
+    plain += cross_correlation_test(e, u, 8).p_value < 0.05 ? 1 : 0;
+    colored += cross_correlation_test_colored_input(e, u, 8).p_value < 0.05 ? 1 : 0;
+  }
+  EXPECT_GE(plain / static_cast<double>(series), 0.02);
+  EXPECT_LE(plain / static_cast<double>(series), 0.09);
+  EXPECT_GE(colored / static_cast<double>(series), 0.02);
+  EXPECT_LE(colored / static_cast<double>(series), 0.09);
+}
+
+TEST(CrossCorrelationTest, SlowInputOverRejectsUnlessTheInputCorrelationIsAccountedFor) {
+  // White e, independent strongly autocorrelated u (AR(1), phi = 0.95): the simplified statistic is
+  // over-dispersed (documented), Ljung's full statistic stays calibrated.
+  constexpr int series = 400;
+  int plain = 0;
+  int colored = 0;
+  for (int i = 0; i < series; ++i) {
+    const auto seed = static_cast<std::uint64_t>(i);
+    const std::vector<double> e = white_noise(400, 20000 + seed);
+    const std::vector<double> u = ar1(400, 0.95, 30000 + seed);
+    plain += cross_correlation_test(e, u, 15).p_value < 0.05 ? 1 : 0;
+    colored += cross_correlation_test_colored_input(e, u, 15).p_value < 0.05 ? 1 : 0;
+  }
+  EXPECT_GT(plain / static_cast<double>(series), 0.12);
+  EXPECT_GE(colored / static_cast<double>(series), 0.02);
+  EXPECT_LE(colored / static_cast<double>(series), 0.09);
+}
+
+TEST(CrossCorrelationTest, DetectsAnInputEffectInTheResiduals) {
+  const std::vector<double> w = white_noise(501, 3);
+  const std::vector<double> noise = white_noise(500, 4);
+  std::vector<double> e(500);
+  std::vector<double> u(w.begin() + 1, w.end());
+  // e(t) = 0.5 u(t - 1) + white: r_eu(1) ~ 0.5 / sqrt(1.25) = 0.45, so S ~ 500 * 0.2 = 100 on 6 dof.
+  for (std::size_t t = 0; t < e.size(); ++t) e[t] = 0.5 * w[t] + noise[t];
+  EXPECT_LT(cross_correlation_test(e, u, 5).p_value, 1e-10);
+  EXPECT_LT(cross_correlation_test_colored_input(e, u, 5).p_value, 1e-10);
+}
+
+TEST(CrossCorrelationTest, RejectsBadArguments) {
+  const std::vector<double> e{1.0, 3.0, 2.0, 5.0};
+  const std::vector<double> u{2.0, 1.0, 2.0, 7.0};
+  EXPECT_THROW(cross_correlation_test(e, u, -1), std::invalid_argument);
+  EXPECT_THROW(cross_correlation_test(e, u, 4), std::invalid_argument);
+  EXPECT_THROW(cross_correlation_test(e, std::vector<double>{1.0, 2.0}, 0), std::invalid_argument);
+  EXPECT_THROW(cross_correlation_test_colored_input(e, u, 4), std::invalid_argument);
+  EXPECT_THROW(cross_correlation_test_colored_input(e, std::vector<double>{1.0, 1.0, 1.0, 1.0}, 1),
+               std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(LinearTrend, ExactLineIsRecovered) {
+  std::vector<double> y(50);
+  for (std::size_t t = 0; t < y.size(); ++t) y[t] = 2.0 + 0.5 * static_cast<double>(t);
+  const TrendTest trend = linear_trend(y);
+  EXPECT_NEAR(trend.slope, 0.5, 1e-13);
+  EXPECT_NEAR(trend.intercept, 2.0, 1e-12);
+  EXPECT_LT(trend.slope_std_error, 1e-12);
+  EXPECT_GT(trend.t, 1e9);
+  EXPECT_LT(trend.p_value, 1e-12);
+}
+
+TEST(LinearTrend, HandComputed) {
+  // y = (0, 2, 1, 3): tbar = 1.5, Stt = 5, ybar = 1.5, Sty = 4, slope 0.8, intercept 0.3; residuals
+  // (-0.3, 0.9, -0.9, 0.3), RSS = 1.8, s^2 = 0.9, se = sqrt(0.18), t = 0.8 / sqrt(0.18);
+  // 2 dof: p = 1 - |t| / sqrt(2 + t^2) = 1 - sqrt(0.64) = 0.2.
+  const std::vector<double> y{0.0, 2.0, 1.0, 3.0};
+  const TrendTest trend = linear_trend(y);
+  EXPECT_NEAR(trend.slope, 0.8, 1e-15);
+  EXPECT_NEAR(trend.intercept, 0.3, 1e-15);
+  EXPECT_NEAR(trend.slope_std_error, std::sqrt(0.18), 1e-15);
+  EXPECT_NEAR(trend.t, 0.8 / std::sqrt(0.18), 1e-14);
+  EXPECT_NEAR(trend.p_value, 0.2, 1e-14);
+}
+
+TEST(LinearTrend, ConstantSeriesHasNoTrend) {
+  const TrendTest trend = linear_trend(std::vector<double>{4.0, 4.0, 4.0, 4.0, 4.0});
+  EXPECT_EQ(trend.slope, 0.0);
+  EXPECT_EQ(trend.intercept, 4.0);
+  EXPECT_EQ(trend.t, 0.0);
+  EXPECT_EQ(trend.p_value, 1.0);
+}
+
+TEST(LinearTrend, RejectsBadArguments) {
+  EXPECT_THROW(linear_trend(std::vector<double>{1.0, 2.0}), std::invalid_argument);
+  EXPECT_THROW(linear_trend(std::vector<double>{1.0, nan, 2.0}), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+TEST(FitPercent, PerfectMeanAndHandComputed) {
+  const std::vector<double> y{0.0, 2.0};
+  EXPECT_DOUBLE_EQ(fit_percent(y, y), 100.0);
+  EXPECT_DOUBLE_EQ(fit_percent(y, std::vector<double>{1.0, 1.0}), 0.0);
+  // ||y - yhat|| = sqrt(0.5), ||y - mean|| = sqrt(2): 100 (1 - 1/2) = 50.
+  EXPECT_DOUBLE_EQ(fit_percent(y, std::vector<double>{0.5, 1.5}), 50.0);
+  // Worse than the mean: ||y - 0|| = 2: 100 (1 - sqrt(2)).
+  EXPECT_NEAR(fit_percent(y, std::vector<double>{0.0, 0.0}), 100.0 * (1.0 - std::numbers::sqrt2), 1e-12);
+}
+
+TEST(FitPercent, RejectsBadArguments) {
+  EXPECT_THROW(fit_percent(std::vector<double>{1.0, 2.0}, std::vector<double>{1.0}), std::invalid_argument);
+  EXPECT_THROW(fit_percent(std::vector<double>{3.0, 3.0}, std::vector<double>{1.0, 2.0}), std::invalid_argument);
+  EXPECT_THROW(fit_percent(std::vector<double>{1.0}, std::vector<double>{1.0}), std::invalid_argument);
+  EXPECT_THROW(fit_percent(std::vector<double>{1.0, 2.0}, std::vector<double>{nan, 2.0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lashid::sim::stats
