@@ -53,4 +53,36 @@ struct HilArgs {
 };
 int run_hil_command(const HilArgs& args);
 
+struct DiagnoseArgs {
+  std::string config;
+  std::string data;
+  std::string json_out;
+  std::string plot_out;
+};
+int run_diagnose(const DiagnoseArgs& args);
+
+struct HiddenEffectArgs {
+  std::string cause;
+  std::uint64_t seed = 1;
+  std::string data_out;
+  std::string config_out;
+};
+int run_hidden_effect(const HiddenEffectArgs& args);
+
+struct DiagnoseSweepArgs {
+  int seeds = 20;
+  std::uint64_t first_seed = 1000;
+  std::string json_out;
+  bool verbose = false;
+};
+int run_diagnose_sweep(const DiagnoseSweepArgs& args);
+
+}  // namespace lashid::app
+
+namespace lashid::sim {
+struct Diagnosis;
+}
+namespace lashid::app {
+/// measured vs nominal vs extended simulation on val, residual autocorrelation and input cross-correlation.
+void plot_diagnosis(const sim::Diagnosis& diagnosis, const std::string& png_path);
 }  // namespace lashid::app

@@ -91,6 +91,34 @@ int main(int argc, char** argv) {
                     "Run QEMU with -icount shift=0 (deterministic cycle counts; much slower exchanges)");
   hil_cmd->add_option("--json", hil.json_out, "Write the results as JSON");
 
+  DiagnoseArgs diag;
+  auto* diagnose = app.add_subcommand(
+      "diagnose", "Simulate the identified model on 'val', find what it gets wrong, name the cause, extend, refit");
+  diagnose->add_option("--config", diag.config, "Experiment config (JSON)")->required()->check(CLI::ExistingFile);
+  diagnose->add_option("--data", diag.data, "Recording with all five phases (CSV)")->required()->check(CLI::ExistingFile);
+  diagnose->add_option("--json", diag.json_out, "Write cause, parameters, fits, evidence and both models as JSON");
+  diagnose->add_option("--plot", diag.plot_out, "Write a PNG: val simulations, residual correlations with bands");
+
+  HiddenEffectArgs hidden;
+  auto* hidden_cmd = app.add_subcommand("hidden-effect", "Generate a random plant's recording with a hidden effect");
+  hidden_cmd->add_option("--cause", hidden.cause, "none, input_lag, dead_time, sensor_drift, colored_noise, operator_type")
+      ->required()
+      ->check(CLI::IsMember({"none", "input_lag", "dead_time", "sensor_drift", "colored_noise", "operator_type"}));
+  hidden_cmd->add_option("--seed", hidden.seed, "Seed of the plant, the effect's size and the noise")
+      ->check(kNonNegativeSeed)
+      ->capture_default_str();
+  hidden_cmd->add_option("--out", hidden.data_out, "Recording to write (CSV)")->required();
+  hidden_cmd->add_option("--config-out", hidden.config_out, "Config to write (JSON, without the effect)")->required();
+
+  DiagnoseSweepArgs sweep;
+  auto* sweep_cmd = app.add_subcommand("diagnose-sweep",
+                                       "Diagnose many hidden-effect recordings: hit rate per cause, confusion matrix");
+  sweep_cmd->add_option("--seeds", sweep.seeds, "Recordings per cause")->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  sweep_cmd->add_option("--first-seed", sweep.first_seed, "First seed")->check(kNonNegativeSeed)->capture_default_str();
+  sweep_cmd->add_option("--json", sweep.json_out, "Write the matrix and every case as JSON");
+  sweep_cmd->add_flag("--verbose", sweep.verbose, "Print every miss");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -102,6 +130,9 @@ int main(int argc, char** argv) {
     if (*identify) return run_identify(id);
     if (*reproduce) return run_reproduce(rep);
     if (*hil_cmd) return run_hil_command(hil);
+    if (*diagnose) return run_diagnose(diag);
+    if (*hidden_cmd) return run_hidden_effect(hidden);
+    if (*sweep_cmd) return run_diagnose_sweep(sweep);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());

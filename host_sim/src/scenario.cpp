@@ -142,8 +142,11 @@ Recording simulate(const Scenario& scenario, const SimulationOptions& options) {
     run(Phase::kAis, scenario.pulse_length_a, [&](std::int64_t t) { return pulse_level(false, c, t); });
   }
   if (options.validation_phase) {
-    const auto v = validation_input(c.v_min, c.v_max, scenario.validation_length, options.seed);
-    run(Phase::kVal, scenario.validation_length, [&](std::int64_t t) { return v[static_cast<std::size_t>(t)]; });
+    const auto v = options.validation_input.empty()
+                       ? validation_input(c.v_min, c.v_max, scenario.validation_length, options.seed)
+                       : options.validation_input;
+    run(Phase::kVal, static_cast<std::int64_t>(v.size()),
+        [&](std::int64_t t) { return v[static_cast<std::size_t>(t)]; });
   }
   return rec;
 }

@@ -44,6 +44,7 @@ struct SimulationOptions {
   bool dis_phases = true;      ///< simulate step_d and dis
   bool ais_phases = true;      ///< simulate step_a and ais
   bool validation_phase = true;
+  std::vector<double> validation_input;  ///< the val phase's input; empty: validation_input() of the scenario
 };
 
 /// The scenario's actuator and plant, one sample at a time: v(t) -> [input lag] -> operator -> linear block + noise
