@@ -91,6 +91,34 @@ int main(int argc, char** argv) {
                     "Run QEMU with -icount shift=0 (deterministic cycle counts; much slower exchanges)");
   hil_cmd->add_option("--json", hil.json_out, "Write the results as JSON");
 
+  OperatorFitArgs opfit;
+  auto* opfit_cmd = app.add_subcommand(
+      "operator-fit",
+      "Fit switch/backlash (nonparametric borders) and the friction-gap extension to measured force-displacement "
+      "files (columns t_s, x_in, F_kip), simulate them on the test files, locate the error on the loop, run DIS/AIS "
+      "with the fitted actuator (docs/friction-damper.md)");
+  opfit_cmd->add_option("--train", opfit.train, "Training files (CSV)")->required()->check(CLI::ExistingFile);
+  opfit_cmd->add_option("--test", opfit.test, "Test files (CSV), never used for fitting")->required()
+      ->check(CLI::ExistingFile);
+  opfit_cmd->add_option("--json", opfit.json_out, "Write the fits, models, causes and analysis as JSON");
+  opfit_cmd->add_option("--plot", opfit.plot_out, "Write the measured and simulated loops as PNG (needs gnuplot)");
+  opfit_cmd->add_option("--gnuplot", opfit.gnuplot, "gnuplot executable")->capture_default_str();
+  opfit_cmd->add_option("--decimate", opfit.decimate,
+                        "Resampling: replace every K samples by their mean (1: the data as recorded)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  opfit_cmd->add_option("--points", opfit.points, "Nodes of each fitted table (borders, G)")
+      ->check(CLI::Range(2, 10000))->capture_default_str();
+  opfit_cmd->add_option("--deadband", opfit.deadband,
+                        "Reversal detection: v must retreat this far from its extreme (units of v)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  opfit_cmd->add_option("--reversal-window", opfit.reversal_window,
+                        "Error analysis: 'reversal' = travel since the last reversal below this")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  opfit_cmd->add_option("--engagement-window", opfit.engagement_window,
+                        "Error analysis: 'engagement' = travel below this (and above the reversal window)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  opfit_cmd->add_flag("--no-stiffness", opfit.no_stiffness, "Extended model without the parallel stiffness k");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -102,6 +130,7 @@ int main(int argc, char** argv) {
     if (*identify) return run_identify(id);
     if (*reproduce) return run_reproduce(rep);
     if (*hil_cmd) return run_hil_command(hil);
+    if (*opfit_cmd) return run_operator_fit(opfit);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());
