@@ -94,9 +94,8 @@ int main(int argc, char** argv) {
   OperatorFitArgs opfit;
   auto* opfit_cmd = app.add_subcommand(
       "operator-fit",
-      "Fit switch/backlash (nonparametric borders) and the friction-gap extension to measured force-displacement "
-      "files (columns t_s, x_in, F_kip), simulate them on the test files, locate the error on the loop, run DIS/AIS "
-      "with the fitted actuator (docs/friction-damper.md)");
+      "Fit switch/backlash and a friction-gap operator to measured force-displacement CSVs (t_s, x_in, F_kip), "
+      "test them on other files, run DIS/AIS with the fit as actuator (docs/friction-damper.md)");
   opfit_cmd->add_option("--train", opfit.train, "Training files (CSV)")->required()->check(CLI::ExistingFile);
   opfit_cmd->add_option("--test", opfit.test, "Test files (CSV), never used for fitting")->required()
       ->check(CLI::ExistingFile);

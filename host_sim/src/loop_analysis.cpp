@@ -34,17 +34,26 @@ double reversal_slope(std::span<const double> v, std::span<const double> u, cons
   return median_or_zero(slopes);
 }
 
-// Median travel with |u| < threshold per half-cycle between reversals that travels at least `min_travel`.
+// Median travel with |u| < threshold per half-cycle between reversals that travels at least `min_travel`; the
+// spread (max - min) of the mean position of those samples over the half-cycles goes to *centre_spread.
 double zero_force_gap(std::span<const double> v, std::span<const double> u, const std::vector<std::size_t>& rev,
-                      double threshold, double min_travel) {
-  std::vector<double> gaps;
+                      double threshold, double min_travel, double* centre_spread = nullptr) {
+  std::vector<double> gaps, centres;
   for (std::size_t k = 0; k + 1 < rev.size(); ++k) {
     if (std::fabs(v[rev[k + 1]] - v[rev[k]]) < min_travel) continue;
-    double gap = 0;
+    double gap = 0, sum = 0, count = 0;
     for (std::size_t t = rev[k] + 1; t <= rev[k + 1]; ++t) {
-      if (std::fabs(u[t]) < threshold) gap += std::fabs(v[t] - v[t - 1]);
+      if (std::fabs(u[t]) < threshold) {
+        gap += std::fabs(v[t] - v[t - 1]);
+        sum += v[t];
+        count += 1;
+      }
     }
     gaps.push_back(gap);
+    if (count > 0) centres.push_back(sum / count);
+  }
+  if (centre_spread != nullptr && !centres.empty()) {
+    *centre_spread = *std::max_element(centres.begin(), centres.end()) - *std::min_element(centres.begin(), centres.end());
   }
   return median_or_zero(gaps);
 }
@@ -65,6 +74,8 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
   const std::array<const char*, 4> names{"reversal", "engagement", "sliding", "stick"};
   std::array<double, 4> sse{};
   std::array<std::size_t, 4> count{};
+  std::vector<double> speeds;
+  speeds.reserve(v.size());
   std::size_t last = 0;
   std::size_t next_rev = 0;
   for (std::size_t t = 0; t < v.size(); ++t) {
@@ -72,6 +83,7 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
     const double travel = std::fabs(v[t] - v[last]);
     const std::size_t a = t >= h ? t - h : 0, b = std::min(v.size() - 1, t + h);
     const double speed = std::fabs(v[b] - v[a]) / (record.t[b] - record.t[a]);
+    speeds.push_back(speed);
     std::size_t phase = 2;
     if (travel < options.reversal_window) {
       phase = 0;
@@ -95,6 +107,9 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
     out.phases.push_back(pe);
   }
 
+  const auto q95 = speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() * 95 / 100);
+  std::nth_element(speeds.begin(), q95, speeds.end());
+  out.peak_speed = *q95;
   std::vector<double> magnitude(u.size());
   std::transform(u.begin(), u.end(), magnitude.begin(), [](double x) { return std::fabs(x); });
   const auto q90 = magnitude.begin() + static_cast<std::ptrdiff_t>(magnitude.size() * 9 / 10);
@@ -102,7 +117,8 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
   out.plateau = *q90;
   out.measured_reversal_slope = reversal_slope(v, u, rev, options.reversal_window);
   out.simulated_reversal_slope = reversal_slope(v, u_sim, rev, options.reversal_window);
-  out.measured_gap = zero_force_gap(v, u, rev, 0.1 * out.plateau, options.engagement_window);
+  out.measured_gap =
+      zero_force_gap(v, u, rev, 0.1 * out.plateau, options.engagement_window, &out.measured_gap_centre_spread);
   out.simulated_gap = zero_force_gap(v, u_sim, rev, 0.1 * out.plateau, options.engagement_window);
   return out;
 }

@@ -92,6 +92,8 @@ struct LoopAnalysis {
   double simulated_reversal_slope = 0;
   double measured_gap = 0;   ///< median travel per half-cycle with |u| < 0.1 plateau (half-cycles of full travel)
   double simulated_gap = 0;
+  double measured_gap_centre_spread = 0;  ///< max - min over those half-cycles of the gap's mean position
+  double peak_speed = 0;                  ///< 95 % quantile of |dv/dt| (50 ms centred differences)
 };
 
 /// Splits the squared error u - u_sim of a record by phase of the loop and measures the reversal slope and the
