@@ -85,4 +85,19 @@ struct Diagnosis;
 namespace lashid::app {
 /// measured vs nominal vs extended simulation on val, residual autocorrelation and input cross-correlation.
 void plot_diagnosis(const sim::Diagnosis& diagnosis, const std::string& png_path);
+struct OperatorFitArgs {
+  std::vector<std::string> train;
+  std::vector<std::string> test;
+  std::string json_out;
+  std::string plot_out;
+  std::string gnuplot = "gnuplot";
+  int decimate = 1;
+  int points = 41;
+  double deadband = 0.002;
+  double reversal_window = 0.05;
+  double engagement_window = 0.30;
+  bool no_stiffness = false;
+};
+int run_operator_fit(const OperatorFitArgs& args);
+
 }  // namespace lashid::app

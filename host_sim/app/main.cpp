@@ -118,6 +118,32 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--first-seed", sweep.first_seed, "First seed")->check(kNonNegativeSeed)->capture_default_str();
   sweep_cmd->add_option("--json", sweep.json_out, "Write the matrix and every case as JSON");
   sweep_cmd->add_flag("--verbose", sweep.verbose, "Print every miss");
+  OperatorFitArgs opfit;
+  auto* opfit_cmd = app.add_subcommand(
+      "operator-fit",
+      "Fit switch/backlash and a friction-gap operator to measured force-displacement CSVs (t_s, x_in, F_kip), "
+      "test them on other files, run DIS/AIS with the fit as actuator (docs/friction-damper.md)");
+  opfit_cmd->add_option("--train", opfit.train, "Training files (CSV)")->required()->check(CLI::ExistingFile);
+  opfit_cmd->add_option("--test", opfit.test, "Test files (CSV), never used for fitting")->required()
+      ->check(CLI::ExistingFile);
+  opfit_cmd->add_option("--json", opfit.json_out, "Write the fits, models, causes and analysis as JSON");
+  opfit_cmd->add_option("--plot", opfit.plot_out, "Write the measured and simulated loops as PNG (needs gnuplot)");
+  opfit_cmd->add_option("--gnuplot", opfit.gnuplot, "gnuplot executable")->capture_default_str();
+  opfit_cmd->add_option("--decimate", opfit.decimate,
+                        "Resampling: replace every K samples by their mean (1: the data as recorded)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  opfit_cmd->add_option("--points", opfit.points, "Nodes of each fitted table (borders, G)")
+      ->check(CLI::Range(2, 10000))->capture_default_str();
+  opfit_cmd->add_option("--deadband", opfit.deadband,
+                        "Reversal detection: v must retreat this far from its extreme (units of v)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  opfit_cmd->add_option("--reversal-window", opfit.reversal_window,
+                        "Error analysis: 'reversal' = travel since the last reversal below this")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  opfit_cmd->add_option("--engagement-window", opfit.engagement_window,
+                        "Error analysis: 'engagement' = travel below this (and above the reversal window)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  opfit_cmd->add_flag("--no-stiffness", opfit.no_stiffness, "Extended model without the parallel stiffness k");
 
   try {
     app.parse(argc, argv);
@@ -133,6 +159,7 @@ int main(int argc, char** argv) {
     if (*diagnose) return run_diagnose(diag);
     if (*hidden_cmd) return run_hidden_effect(hidden);
     if (*sweep_cmd) return run_diagnose_sweep(sweep);
+    if (*opfit_cmd) return run_operator_fit(opfit);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Regenerates every number quoted in docs/friction-damper.md: builds lashid (preset host-release) and runs
+# `lashid operator-fit` on the measured friction damper (tests/data/friction_damper). Writes
+# docs/friction-damper.json and docs/friction-damper.png and prints the report. Run from anywhere.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "${root}"
+if [[ ! -f build/host-release/CMakeCache.txt ]]; then cmake --preset host-release >/dev/null; fi
+cmake --build --preset host-release -j2 --target lashid >/dev/null
+d=tests/data/friction_damper
+# Training: one file per frequency and one per amplitude (a Latin square); testing: the other six and the earthquake.
+build/host-release/host_sim/lashid operator-fit \
+  --train "${d}/char_0.25Hz30lbtension1amplitude.csv" "${d}/char_0.5Hz30lbtension0.5amplitude.csv" \
+          "${d}/char_1Hz30lbtension1.5amplitude.csv" \
+  --test "${d}/char_0.25Hz30lbtension0.5amplitude.csv" "${d}/char_0.25Hz30lbtension1.5amplitude.csv" \
+         "${d}/char_0.5Hz30lbtension1amplitude.csv" "${d}/char_0.5Hz30lbtension1.5amplitude.csv" \
+         "${d}/char_1Hz30lbtension0.5amplitude.csv" "${d}/char_1Hz30lbtension1amplitude.csv" \
+         "${d}/eq_KocaeliDBE.csv" \
+  --json docs/friction-damper.json --plot docs/friction-damper.png "$@"
