@@ -61,7 +61,7 @@ CandidateCause input_lag_candidate(const ExperimentConfig& config, const FlatRec
   ModelStructure s = nominal.structure;
   const auto fit = [&](double lambda) {
     s.input_lag = lambda;
-    return fit_joint_model(config, data, s);
+    return fit_joint_model(config, data, s, &nominal);
   };
   JointModel best = nominal;
   double best_lambda = 0;
@@ -104,7 +104,7 @@ CandidateCause dead_time_candidate(const ExperimentConfig& config, const FlatRec
   for (int d = 1; d <= options.max_delay; ++d) {
     ModelStructure s = nominal.structure;
     s.delay = d;
-    JointModel m = fit_joint_model(config, data, s);
+    JointModel m = fit_joint_model(config, data, s, &nominal);
     if (m.ok && m.rss < c.model.rss) c.model = std::move(m);
   }
   c.parameters = {{"delay", c.model.structure.delay}};

@@ -164,6 +164,11 @@ HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, co
   c.effect.true_operator = kind;
   cfg.op = kind;
   auto [ascending, descending] = random_borders(grid, draw);
+  c.effect.border_v = grid;
+  for (double v : grid) {
+    c.effect.border_ascending.push_back(ascending(v));
+    c.effect.border_descending.push_back(descending(v));
+  }
   const double rise_scale = descending(cfg.v_max) - descending(cfg.v_min);
   c.noise_variance = std::pow(draw.uniform(0.003, 0.01) * rise_scale * gain * A1, 2.0);
 

@@ -157,26 +157,50 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
       for (int i = 1; i <= n; ++i) Z(r, i - 1) = -(*instruments_y)[t - static_cast<std::size_t>(i)];
     }
   }
-  Eigen::VectorXd theta;
+  // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
+  // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
+  // interpolation below (their value does not affect this data, only the simulation elsewhere).
+  std::vector<bool> excited(static_cast<std::size_t>(P), false);
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    const bool basis = k >= n && k < n + n * P;
+    if (basis) {
+      const auto p = static_cast<std::size_t>((k - n) % P);
+      if (X.col(k).squaredNorm() > 0) excited[p] = true;
+    }
+  }
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    const bool basis = k >= n && k < n + n * P;
+    if (!basis || excited[static_cast<std::size_t>((k - n) % P)]) keep.push_back(k);
+  }
+  if (static_cast<Eigen::Index>(keep.size()) < cols) {
+    X = X(Eigen::all, keep).eval();
+    if (instruments_y != nullptr) Z = Z(Eigen::all, keep).eval();
+    model.parameters = static_cast<int>(keep.size());
+  }
+  const auto kept = static_cast<int>(keep.size());
+  Eigen::VectorXd reduced;
   if (instruments_y == nullptr) {
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
-    if (qr.rank() < cols) {
+    if (qr.rank() < kept) {
       model.failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
                                   "the experiments do not excite every border point",
-                                  qr.rank(), cols);
+                                  qr.rank(), kept);
       return model;
     }
-    theta = qr.solve(Y);
+    reduced = qr.solve(Y);
   } else {
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(Z.transpose() * X);
     if (!lu.isInvertible()) {
       model.failure = "the instrumental-variable system is singular";
       return model;
     }
-    theta = lu.solve(Z.transpose() * Y);
+    reduced = lu.solve(Z.transpose() * Y);
   }
-  model.rss = (Y - X * theta).squaredNorm();
-  model.residual_variance = model.rss / static_cast<double>(R - cols);
+  model.rss = (Y - X * reduced).squaredNorm();
+  model.residual_variance = model.rss / static_cast<double>(R - kept);
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
+  for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = reduced(static_cast<Eigen::Index>(i));
   model.a.assign(theta.data(), theta.data() + n);
   Eigen::MatrixXd products(n, P);
   for (int i = 0; i < n; ++i) products.row(i) = theta.segment(n + i * P, P).transpose();
@@ -189,7 +213,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   Eigen::VectorXd c = svd.matrixV().col(0);
   Eigen::VectorXd b = s(0) * svd.matrixU().col(0);
   model.rank_one_ratio = s.size() > 1 && s(0) > 0 ? s(1) / s(0) : 0.0;
-  if (!(std::abs(c(0)) > 1e-9 * c.norm())) {
+  if (!excited[0] || !(std::abs(c(0)) > 1e-9 * c.norm())) {
     model.failure = "degenerate borders: the estimated u_m equals u_M";
     return model;
   }
@@ -200,7 +224,22 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   const auto values = [&](const BorderLayout& border, std::vector<double>& x, std::vector<double>& u) {
     x = border.x;
     u.clear();
-    for (int p : border.param) u.push_back(p < 0 ? 0.0 : c(p));
+    std::vector<bool> known;
+    for (int p : border.param) {
+      u.push_back(p < 0 ? 0.0 : c(p));
+      known.push_back(p < 0 || excited[static_cast<std::size_t>(p)]);
+    }
+    // Unexcited points: linear interpolation between the nearest excited neighbours on the same border.
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      if (known[i]) continue;
+      std::size_t lo = i, hi = i;
+      while (lo > 0 && !known[lo]) --lo;
+      while (hi + 1 < u.size() && !known[hi]) ++hi;
+      if (!known[lo]) lo = hi;
+      if (!known[hi]) hi = lo;
+      const double f = hi == lo ? 0.0 : (x[i] - x[lo]) / (x[hi] - x[lo]);
+      u[i] = u[lo] + f * (u[hi] - u[lo]);
+    }
   };
   values(layout.descending, model.descending_v, model.descending_u);
   values(layout.ascending, model.ascending_v, model.ascending_u);
@@ -243,23 +282,41 @@ std::vector<double> effective_input(const std::vector<double>& v, const ModelStr
   return w;
 }
 
-JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure) {
+JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
+                           const JointModel* initial) {
   const Layout layout = make_layout(config);
   const std::vector<double> w = effective_input(data.v, structure);
-  Basis phi = operator_basis(layout, w, structure.op, nullptr);
   ModelStructure ls_structure = structure;
   ls_structure.instrumental = false;
-  JointModel model = fit_with_basis(config, layout, data, ls_structure, phi, nullptr);
-  // Backlash: the regimes depend on the borders; refit until they no longer change (usually one pass).
-  // A refit is kept only if it fits better: a poor first model (e.g. of a plant with an unmodelled effect) can
-  // have borders that make its backlash hold where the plant moves, which would leave border points unexcited.
-  for (int pass = 0; pass < 4 && model.ok && structure.op == OperatorKind::kBacklash; ++pass) {
-    Basis next = operator_basis(layout, w, structure.op, &model);
-    if (next == phi) break;
-    JointModel refit = fit_with_basis(config, layout, data, ls_structure, next, nullptr);
-    if (!refit.ok || !(refit.rss < model.rss)) break;
-    phi = std::move(next);
-    model = std::move(refit);
+  // A backlash's regimes depend on its borders: starting from a first guess of the regimes, refit until they no
+  // longer change. A refit is kept only if it fits better: a poor first model (e.g. of a plant with an unmodelled
+  // effect) can have borders that make its backlash hold where the plant moves, leaving border points unexcited.
+  // First guesses: the switch's regimes (exact for the nominal experiments, where F acts as a static map) and,
+  // when given, the regimes of `initial` (e.g. the nominal fit, a better start once the input is filtered).
+  const auto fit_from = [&](const JointModel* start) {
+    Basis phi = operator_basis(layout, w, structure.op, start);
+    JointModel model = fit_with_basis(config, layout, data, ls_structure, phi, nullptr);
+    JointModel current = model;
+    Basis current_phi = phi;
+    for (int pass = 0; pass < 8 && current.ok && structure.op == OperatorKind::kBacklash; ++pass) {
+      Basis next = operator_basis(layout, w, structure.op, &current);
+      if (next == current_phi) break;
+      current = fit_with_basis(config, layout, data, ls_structure, next, nullptr);
+      current_phi = std::move(next);
+      if (current.ok && current.rss < model.rss) {
+        model = current;
+        phi = current_phi;
+      }
+    }
+    return std::pair{std::move(model), std::move(phi)};
+  };
+  auto [model, phi] = fit_from(nullptr);
+  if (initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash) {
+    auto [other, other_phi] = fit_from(initial);
+    if (other.ok && (!model.ok || other.rss < model.rss)) {
+      model = std::move(other);
+      phi = std::move(other_phi);
+    }
   }
   if (!structure.instrumental || !model.ok) return model;
   // Instrumental variables: the noise-free simulated output of the least-squares model replaces y in the

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "lashid/sim/config.hpp"
 #include "lashid/sim/linear_plant.hpp"
@@ -30,6 +31,8 @@ struct HiddenEffect {
   double drift_total = 0;        ///< sensor_drift: offset change from the first to the last sample of the file
   double sensor_snr_db = 0;      ///< colored_noise: white sensor noise added to y, at this SNR
   OperatorKind true_operator = OperatorKind::kBacklash;  ///< the plant's operator (the config may say otherwise)
+  std::vector<double> border_v;                           ///< the true borders: linear between these abscissas
+  std::vector<double> border_ascending, border_descending;
 };
 
 struct HiddenEffectCase {

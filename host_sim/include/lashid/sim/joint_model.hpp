@@ -66,8 +66,10 @@ struct JointModel {
   double drift_total() const;
 };
 
-/// Fits `structure` to the identification phases of `data` (the val phase is never used).
-JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure);
+/// Fits `structure` to the identification phases of `data` (the val phase is never used). For a backlash,
+/// `initial` (optional, same config) gives a second starting point for the operator's regimes.
+JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
+                           const JointModel* initial = nullptr);
 
 /// The command w(t) the operator sees: v delayed by d, then through G(lambda) (at rest on v(0) before t = 0).
 std::vector<double> effective_input(const std::vector<double>& v, const ModelStructure& structure);
