@@ -93,14 +93,14 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
       if (args.verbose) {
         std::string evidence;
         for (const CandidateCause& cand : d.candidates) {
-          evidence += fmt::format(" {}={:.3g}/{:.2g}", to_string(cand.cause).substr(0, 5), cand.statistic,
-                                  cand.identification.whiteness.p_value);
+          evidence += fmt::format(" {}={:.3g}/Q{:.0f}", to_string(cand.cause).substr(0, 5), cand.statistic,
+                                  cand.identification.whiteness.statistic);
         }
-        fmt::print("{} {} seed {} n={} m={} -> {} {} (fit {:.1f} -> {:.1f}) truth l={:.3f} d={} D={:.3g} | white {:.2g} "
+        fmt::print("{} {} seed {} n={} m={} -> {} {} (fit {:.1f} -> {:.1f}) truth l={:.3f} d={} D={:.3g} | Q {:.0f} "
                    "|{}\n",
                    hit ? "hit " : "MISS", to_string(cause), seed, c.config.n, c.config.m, to_string(d.cause),
                    d.parameters.dump(), d.fit_nominal, d.fit_extended, c.effect.lambda, c.effect.delay,
-                   c.effect.drift_total, d.identification.whiteness.p_value, evidence);
+                   c.effect.drift_total, d.identification.whiteness.statistic, evidence);
       }
     }
   }

@@ -213,6 +213,7 @@ nlohmann::json to_json(const Diagnosis& d) {
                             : c.cause == Cause::kColoredNoise ? "none"
                                                               : "likelihood_ratio";
       j["p_value"] = c.p_value;
+      j["likelihood_ratio"] = c.likelihood_ratio;
       j["fit_val"] = c.fit_val;
       j["residual_whiteness_p"] = c.identification.whiteness.p_value;
       j["residual_variance"] = c.model.residual_variance;

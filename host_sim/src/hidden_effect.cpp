@@ -71,23 +71,32 @@ std::pair<Border, Border> random_borders(const std::vector<double>& grid, Draw& 
   return {Border::from_table(std::move(ascending)), Border::from_table(std::move(descending))};
 }
 
-// Validation input on the grid of the experiment's levels, held 3..20 samples; a third of the moves go to a
-// neighbouring level, so the record has small reversals (a switch jumps there, a backlash holds).
+// Validation input: the experiment's levels held 3..20 samples, and in a third of the moves a small reversal
+// (2-8 % of the interval away from the current level and back), where a switch jumps to the other border and a
+// backlash holds. The borders are linear between the levels, so off-level inputs need no border extrapolation.
 std::vector<double> validation_levels(const std::vector<double>& grid, int length, Draw& draw) {
   std::vector<double> v;
-  int index = draw.integer(0, static_cast<int>(grid.size()) - 1);
   const int last = static_cast<int>(grid.size()) - 1;
+  const double range = grid.back() - grid.front();
+  int index = draw.integer(0, last);
+  const auto hold = [&](double level) {
+    const int samples = draw.integer(3, 20);
+    for (int k = 0; k < samples && static_cast<int>(v.size()) < length; ++k) v.push_back(level);
+  };
   while (static_cast<int>(v.size()) < length) {
-    const int hold = draw.integer(3, 20);
-    for (int k = 0; k < hold && static_cast<int>(v.size()) < length; ++k) v.push_back(grid[static_cast<std::size_t>(index)]);
-    int next = index;
+    const double level = grid[static_cast<std::size_t>(index)];
+    hold(level);
     if (draw.coin(0.35)) {
-      next = index == 0 ? 1 : index == last ? last - 1 : index + (draw.coin(0.5) ? 1 : -1);
-    } else {
-      while (next == index) next = draw.integer(0, last);
+      const double step = draw.uniform(0.02, 0.08) * range;
+      const bool up = index == 0 || (index != last && draw.coin(0.5));
+      hold(up ? level + step : level - step);
+      hold(level);
     }
+    int next = index;
+    while (next == index) next = draw.integer(0, last);
     index = next;
   }
+  v.resize(static_cast<std::size_t>(length));
   return v;
 }
 

@@ -197,7 +197,10 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     }
     reduced = lu.solve(Z.transpose() * Y);
   }
-  model.rss = (Y - X * reduced).squaredNorm();
+  const Eigen::VectorXd residuals = Y - X * reduced;
+  model.rss = residuals.squaredNorm();
+  model.residuals.assign(residuals.data(), residuals.data() + residuals.size());
+  model.residual_t = rows;
   model.residual_variance = model.rss / static_cast<double>(R - kept);
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
   for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = reduced(static_cast<Eigen::Index>(i));
@@ -321,9 +324,22 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   if (!structure.instrumental || !model.ok) return model;
   // Instrumental variables: the noise-free simulated output of the least-squares model replaces y in the
   // instruments, so they are uncorrelated with a coloured disturbance (Soderstrom & Stoica, Ch. 8). Two passes.
+  // If the least-squares model is unstable (its simulation diverges), the delayed operator outputs replace the
+  // simulated outputs: u~(t - n - i) is as uncorrelated with the disturbance, only less correlated with y.
+  const JointModel ls_model = model;
   for (int pass = 0; pass < 2 && model.ok; ++pass) {
-    const std::vector<double> x = simulate_segment(model, data, 0, data.size());
-    model = fit_with_basis(config, layout, data, structure, phi, &x);
+    std::vector<double> x = simulate_segment(model, data, 0, data.size());
+    if (!std::all_of(x.begin(), x.end(), [](double value) { return std::isfinite(value); })) {
+      const std::vector<double> u = operator_output(ls_model, data);
+      const auto lag = static_cast<std::size_t>(config.n);
+      for (std::size_t t = 0; t < x.size(); ++t) x[t] = t >= lag ? u[t - lag] : u[0];
+    }
+    JointModel iv = fit_with_basis(config, layout, data, structure, phi, &x);
+    if (!iv.ok) {
+      if (pass == 0) return iv;
+      break;
+    }
+    model = std::move(iv);
   }
   return model;
 }

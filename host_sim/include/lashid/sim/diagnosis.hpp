@@ -35,6 +35,7 @@ struct CandidateCause {
   JointModel model;
   double statistic = 0;  ///< likelihood ratio N ln(RSS_nominal / RSS_extended) on the identification phases
   double p_value = 1;    ///< chi2(1) tail of the statistic (operator_type: not a likelihood ratio, see docs)
+  double likelihood_ratio = 0;  ///< N ln(RSS_nominal / RSS_extended) on the identification phases (every cause)
   double fit_val = 0;    ///< simulation fit on val
   ResidualAnalysis identification;  ///< of the extended model's one-step residuals
   nlohmann::json parameters = nlohmann::json::object();
@@ -58,6 +59,7 @@ struct Diagnosis {
 struct DiagnosisOptions {
   double structural_p = 1e-6;      ///< a structural extension must beat the nominal model at this level
   double white_p = 1e-4;           ///< residuals count as white above this Ljung-Box p-value
+  double whiteness_ratio = 0.1;    ///< or when an extension cuts the nominal Ljung-Box statistic below this fraction
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the nominal one
   double max_input_lag = 0.8;
   int max_delay = 5;

@@ -58,6 +58,8 @@ struct JointModel {
   std::size_t rows = 0;
   int parameters = 0;
   double rank_one_ratio = 0;    ///< sigma_2 / sigma_1 of the b c' products (0 = exactly rank one)
+  std::vector<double> residuals;         ///< of the regression, on the identification rows
+  std::vector<std::size_t> residual_t;   ///< sample index of each residual
   bool ok = false;              ///< false: the regression was singular or the factorisation degenerate
   std::string failure;          ///< why, when !ok
 
