@@ -370,3 +370,39 @@ TEST_F(Cli, SimulateWritesNeitherFileWhenOneCannotBeWritten) {
 }
 
 }  // namespace
+
+// --- diagnose -----------------------------------------------------------------------------------------------
+
+// A generated recording with a hidden dead time: the JSON carries the keys, and the hidden delay.
+TEST_F(Cli, DiagnoseFindsAHiddenDeadTimeAndWritesTheJson) {
+  const std::string csv = (work_ / "dt.csv").string(), cfg = (work_ / "dt.json").string();
+  const std::string out = (work_ / "diag.json").string();
+  const Outcome gen = run({"hidden-effect", "--cause", "dead_time", "--seed", "11", "--out", csv, "--config-out", cfg});
+  ASSERT_EQ(gen.exit_code, 0) << gen;
+  EXPECT_EQ(slurp(cfg).find("delay"), std::string::npos) << "the effect must not leak into the config";
+  const Outcome r = run({"diagnose", "--config", cfg, "--data", csv, "--json", out});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_NE(r.out.find("cause: dead_time"), std::string::npos) << r;
+  const json j = json::parse(slurp(out));
+  EXPECT_EQ(j.at("cause"), "dead_time");
+  for (const char* key : {"parameters", "fit_nominal", "fit_extended", "evidence", "models", "findings"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_GT(j.at("fit_extended").get<double>(), j.at("fit_nominal").get<double>());
+  EXPECT_TRUE(j.at("models").contains("nominal") && j.at("models").contains("extended"));
+}
+
+TEST_F(CliBadInput, DiagnoseNamesTheMissingPhaseAndWritesNothing) {
+  // A simulated paper scenario without its val phase: cut the recording before the first val row.
+  ASSERT_NO_FATAL_FAILURE(simulate(5, "rec.csv", "cfg.json"));
+  const std::string text = slurp(work_ / "rec.csv");
+  const auto cut = text.find("\nval,");
+  ASSERT_NE(cut, std::string::npos);
+  std::ofstream(work_ / "noval.csv") << text.substr(0, cut + 1);
+  const auto before = files_below(work_);
+  const Outcome r = run({"diagnose", "--config", (work_ / "cfg.json").string(), "--data",
+                         (work_ / "noval.csv").string(), "--json", (work_ / "d.json").string()});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_NE(r.err.find("noval.csv: diagnose needs all five phases; 'val' is missing"), std::string::npos) << r;
+  EXPECT_EQ(files_below(work_), before);
+}
