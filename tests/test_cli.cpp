@@ -1,98 +1,27 @@
 // End-to-end tests of the `lashid` executable (LASHID_EXE, set by tests/CMakeLists.txt): the real program
 // is run through the shell with stdout and stderr captured, so argument parsing, exit codes, the files
 // written and the error messages a user sees are all covered, not just the library behind them.
-#include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "cli_harness.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace lashid::test;
 
-::testing::AssertionResult Contains(std::string_view text, std::string_view part) {
-  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// Single quotes make the shell pass every byte through unchanged; a ' inside becomes '\''.
-std::string shell_quote(std::string_view word) {
-  std::string quoted = "'";
-  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-struct Outcome {
-  int exit_code = -1;  // -1: killed by a signal (e.g. a sanitizer abort) or could not be started
-  std::string out;
-  std::string err;
-};
-
-std::ostream& operator<<(std::ostream& os, const Outcome& run) {
-  return os << "exit code " << run.exit_code << "\n--- stdout ---\n" << run.out << "--- stderr ---\n" << run.err;
-}
-
-// Every file below the directory, relative to it, to show that a failing command created nothing.
-std::set<std::string> files_below(const fs::path& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::recursive_directory_iterator(dir)) names.insert(fs::relative(entry, dir).string());
-  return names;
-}
-
-class Cli : public ::testing::Test {
+class Cli : public LashidExeTest {
  protected:
-  // Per-test directories: ctest runs the tests of this file in parallel processes. The program runs in
-  // work_ (so relative paths in its arguments land there); its captured output goes beside work_.
-  void SetUp() override {
-    // One clear message instead of every check failing with the shell's "not found" (exit code 127).
-    ASSERT_TRUE(fs::is_regular_file(LASHID_EXE)) << LASHID_EXE << " does not exist: build the lashid target";
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           (std::string("lashid_test_cli_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    work_ = dir_ / "work";
-    fs::create_directories(work_);
-  }
-  // Kept after a failure, for a look at the files involved.
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
-  Outcome run(const std::vector<std::string>& args) const {
-    // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
-    std::string command = "cd ";
-    command.append(shell_quote(work_.string())).append(" && exec ").append(shell_quote(LASHID_EXE));
-    for (const auto& arg : args) command.append(" ").append(shell_quote(arg));
-    command.append(" >").append(shell_quote((dir_ / "stdout.txt").string()));
-    command.append(" 2>").append(shell_quote((dir_ / "stderr.txt").string())).append(" </dev/null");
-    const int status = std::system(command.c_str());
-    Outcome result;
-    if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-    result.out = slurp(dir_ / "stdout.txt");
-    result.err = slurp(dir_ / "stderr.txt");
-    return result;
-  }
-
   // dis_paper recording and config with the truth, in work_.
   void simulate(int seed, const std::string& csv = "rec.csv", const std::string& config = "cfg.json") const {
     const Outcome r = run({"simulate", "--scenario", "dis_paper", "--seed", std::to_string(seed), "--out", csv,
@@ -129,9 +58,6 @@ class Cli : public ::testing::Test {
     EXPECT_NE(edited_line, 0) << "no row starting with " << prefix << " in " << from;
     return edited_line;
   }
-
-  fs::path dir_;
-  fs::path work_;
 };
 
 // ||x - ref|| / ||ref||: element-wise relative differences are meaningless for entries near zero.

@@ -1,96 +1,28 @@
 // End-to-end tests of `lashid operator-fit` (LASHID_EXE) on the measured damper data (LASHID_DAMPER_DATA): what
 // it writes, its errors, and that a failing run leaves no file behind.
-#include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-::testing::AssertionResult Contains(std::string_view text, std::string_view part) {
-  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string shell_quote(std::string_view word) {
-  std::string quoted = "'";
-  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::ostream& operator<<(std::ostream& os, const Outcome& run) {
-  return os << "exit code " << run.exit_code << "\n--- stdout ---\n" << run.out << "--- stderr ---\n" << run.err;
-}
+using namespace lashid::test;
 
 const std::string kData = LASHID_DAMPER_DATA;
 const std::string kTrain = kData + "/char_0.25Hz30lbtension1amplitude.csv";
 const std::string kTest1 = kData + "/char_1Hz30lbtension0.5amplitude.csv";
 const std::string kTest2 = kData + "/eq_KocaeliDBE.csv";
 
-class OperatorFitCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    ASSERT_TRUE(fs::is_regular_file(LASHID_EXE)) << LASHID_EXE << " does not exist: build the lashid target";
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           (std::string("lashid_test_opfit_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    work_ = dir_ / "work";
-    fs::create_directories(work_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
-  Outcome run(const std::vector<std::string>& args) const {
-    std::string command = "cd ";
-    command.append(shell_quote(work_.string())).append(" && exec ").append(shell_quote(LASHID_EXE));
-    for (const auto& arg : args) command.append(" ").append(shell_quote(arg));
-    command.append(" >").append(shell_quote((dir_ / "stdout.txt").string()));
-    command.append(" 2>").append(shell_quote((dir_ / "stderr.txt").string())).append(" </dev/null");
-    const int status = std::system(command.c_str());
-    Outcome result;
-    if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-    result.out = slurp(dir_ / "stdout.txt");
-    result.err = slurp(dir_ / "stderr.txt");
-    return result;
-  }
-
-  std::set<std::string> files() const {
-    std::set<std::string> names;
-    for (const auto& entry : fs::directory_iterator(work_)) names.insert(entry.path().filename().string());
-    return names;
-  }
-
-  fs::path dir_;
-  fs::path work_;
-};
+class OperatorFitCli : public LashidExeTest {};
 
 TEST_F(OperatorFitCli, WritesTheFitsOfBothModelsPerTestFile) {
   const Outcome r = run({"operator-fit", "--decimate", "8", "--train", kTrain, "--test", kTest1, kTest2, "--json",
@@ -119,7 +51,7 @@ TEST_F(OperatorFitCli, BadDataNamesFileLineAndColumnAndWritesNothing) {
   const Outcome r = run({"operator-fit", "--train", "bad.csv", "--test", kTest1, "--json", "fit.json"});
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(Contains(r.err, "bad.csv:3: column 'x_in': 'nan' is not finite"));
-  EXPECT_EQ(files(), (std::set<std::string>{"bad.csv"}));
+  EXPECT_EQ(files_below(work_), (std::set<std::string>{"bad.csv"}));
 
   std::ofstream(work_ / "nocol.csv") << "t_s,x,F_kip\n0,0,0\n";
   const Outcome missing = run({"operator-fit", "--train", kTrain, "--test", "nocol.csv"});
@@ -132,7 +64,7 @@ TEST_F(OperatorFitCli, MissingGnuplotIsAClearErrorAndNothingIsWritten) {
                          "fit.json", "--plot", "loops.png", "--gnuplot", "/nonexistent/gnuplot"});
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(Contains(r.err, "loops.png: cannot plot: '/nonexistent/gnuplot' not found (install gnuplot-nox)"));
-  EXPECT_TRUE(files().empty());
+  EXPECT_TRUE(files_below(work_).empty());
 }
 
 TEST_F(OperatorFitCli, PlotsTheLoopsAsPng) {
@@ -141,7 +73,7 @@ TEST_F(OperatorFitCli, PlotsTheLoopsAsPng) {
                          "loops.png"});
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_EQ(slurp(work_ / "loops.png").substr(0, 4), "\x89PNG");
-  EXPECT_EQ(files(), (std::set<std::string>{"loops.png"}));
+  EXPECT_EQ(files_below(work_), (std::set<std::string>{"loops.png"}));
 }
 
 TEST_F(OperatorFitCli, RejectsBadOptions) {

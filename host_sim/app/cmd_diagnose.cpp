@@ -60,8 +60,7 @@ bool parameter_ok(const HiddenEffect& truth, const Diagnosis& d) {
     case Cause::kSensorDrift:
       return std::abs(d.parameters.value("drift_total", 0.0) - truth.drift_total) <= 0.2 * std::abs(truth.drift_total);
     case Cause::kOperatorType:
-      return d.parameters.value("operator", std::string()) ==
-             (truth.true_operator == OperatorKind::kSwitch ? "switch" : "backlash");
+      return d.parameters.value("operator", std::string()) == to_string(truth.true_operator);
     default:
       return true;
   }

@@ -16,14 +16,14 @@
 
 namespace lashid::sim {
 
+std::string_view to_string(OperatorKind kind) { return kind == OperatorKind::kSwitch ? "switch" : "backlash"; }
+
 namespace {
 
 using nlohmann::json;
 
 constexpr std::array<std::string_view, 8> kConfigKeys = {"n", "m", "v_min", "v_max", "V_d", "V_a", "operator", "truth"};
 constexpr std::array<std::string_view, 6> kTruthKeys = {"a", "b", "F_d", "F_a", "ybar0_d", "ybar0_a"};
-
-std::string_view to_string(OperatorKind kind) { return kind == OperatorKind::kSwitch ? "switch" : "backlash"; }
 
 // Turns the JSON document into an ExperimentConfig, naming the offending key in every error.
 class ConfigReader {

@@ -120,8 +120,6 @@ CandidateCause dead_time_candidate(const ExperimentConfig& config, const FlatRec
   return c;
 }
 
-std::string operator_name(OperatorKind op) { return op == OperatorKind::kSwitch ? "switch" : "backlash"; }
-
 }  // namespace
 
 Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, std::string_view data_name,
@@ -193,7 +191,7 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
     ModelStructure s = nominal_structure;
     s.op = config.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
     c.model = fit_joint_model(config, data, s);
-    c.parameters = {{"operator", operator_name(s.op)}};
+    c.parameters = {{"operator", to_string(s.op)}};
     d.candidates.push_back(std::move(c));
   }
   for (CandidateCause& c : d.candidates) {

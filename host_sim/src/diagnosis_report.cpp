@@ -11,8 +11,6 @@ namespace lashid::sim {
 
 namespace {
 
-std::string operator_name(OperatorKind op) { return op == OperatorKind::kSwitch ? "switch" : "backlash"; }
-
 std::string p_text(double p) { return p < 1e-16 ? "p < 1e-16" : fmt::format("p = {:.2g}", p); }
 
 // Lags (>= 1 for the autocorrelation) whose correlation leaves the band, strongest first, at most 4.
@@ -93,7 +91,7 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
   std::vector<std::string> f;
   f.push_back(fmt::format("The nominal model ({}, n = {}, joint DIS+AIS least squares) simulates 'val' with a fit of "
                           "{:.1f} %.",
-                          operator_name(d.nominal.structure.op), d.nominal.n, d.fit_nominal));
+                          to_string(d.nominal.structure.op), d.nominal.n, d.fit_nominal));
   const auto& id = d.identification;
   if (id.whiteness.p_value >= 1e-4) {
     f.push_back(fmt::format("Its one-step residuals on the identification phases are white (Ljung-Box Q = {:.1f}, "
@@ -166,7 +164,7 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
 }
 
 nlohmann::json to_json(const JointModel& m) {
-  return {{"operator", operator_name(m.structure.op)},
+  return {{"operator", to_string(m.structure.op)},
           {"input_lag", m.structure.input_lag},
           {"delay", m.structure.delay},
           {"drift", m.structure.drift},

@@ -20,6 +20,8 @@ inline constexpr int kMinPoints = 1;  // m: number of border points per scheme (
 inline constexpr int kMaxPoints = 8;
 
 enum class OperatorKind { kSwitch, kBacklash };
+/// "switch" or "backlash", as in the config file.
+std::string_view to_string(OperatorKind kind);
 
 // The true system, when known (written by the simulator). Empty vectors / nullopt = unknown.
 struct Truth {
