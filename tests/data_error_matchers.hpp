@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "lashid/sim/recording.hpp"
+#include "lashid/io/recording.hpp"
 
 namespace lashid::test {
 

@@ -10,7 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "lashid/sim/config.hpp"
+#include "lashid/io/config.hpp"
+#include "lashid/io/json.hpp"
 
 #include "data_error_matchers.hpp"
 

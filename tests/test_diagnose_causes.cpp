@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
-#include "lashid/sim/diagnosis.hpp"
+#include "lashid/diagnose/diagnosis.hpp"
 #include "lashid/sim/hidden_effect.hpp"
-#include "lashid/sim/joint_model.hpp"
+#include "lashid/analysis/joint_model.hpp"
 
 namespace {
 
@@ -20,21 +20,23 @@ TEST_P(DiagnoseHiddenEffect, FindsTheCauseItsParameterAndTheGain) {
     const HiddenEffectCase c = generate_hidden_effect_case(cause, seed);
     const Diagnosis d = diagnose(c.config, c.recording, "generated");
     SCOPED_TRACE(::testing::Message() << to_string(cause) << " seed " << seed << ": found " << to_string(d.cause)
-                                      << " " << d.parameters.dump());
+                                      << " " << to_string(d.parameters));
     ASSERT_EQ(d.cause, cause);
     const HiddenEffect& e = c.effect;
     switch (cause) {
       case Cause::kInputLag:
-        EXPECT_NEAR(d.parameters.at("lambda").get<double>(), e.lambda, 0.05);
+        ASSERT_TRUE(d.parameters.lambda);
+        EXPECT_NEAR(*d.parameters.lambda, e.lambda, 0.05);
         break;
       case Cause::kDeadTime:
-        EXPECT_EQ(d.parameters.at("delay").get<int>(), e.delay);
+        EXPECT_EQ(d.parameters.delay, e.delay);
         break;
       case Cause::kSensorDrift:
-        EXPECT_NEAR(d.parameters.at("drift_total").get<double>(), e.drift_total, 0.2 * std::abs(e.drift_total));
+        ASSERT_TRUE(d.parameters.drift_total);
+        EXPECT_NEAR(*d.parameters.drift_total, e.drift_total, 0.2 * std::abs(e.drift_total));
         break;
       case Cause::kOperatorType:
-        EXPECT_EQ(d.parameters.at("operator").get<std::string>(), to_string(e.true_operator));
+        EXPECT_EQ(d.parameters.op, e.true_operator);
         break;
       default:
         break;

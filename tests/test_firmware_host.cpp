@@ -9,9 +9,9 @@
 
 #include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
-#include "lashid/hal/host_board.hpp"
+#include "lashid/hil/hil.hpp"
 #include "lashid/hal/remote_plant_port.hpp"
-#include "lashid/sim/identify.hpp"
+#include "lashid/identify/identify.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace {
@@ -37,7 +37,7 @@ struct Reports {
   int done = -1;
 };
 
-Reports reports_of(const hal::HostBoard& board) {
+Reports reports_of(const sim::ScenarioBoard& board) {
   std::uint32_t errors = 0;
   Reports r;
   for (const auto& f : frames_of(board.link_output(), &errors)) {
@@ -60,8 +60,8 @@ Reports reports_of(const hal::HostBoard& board) {
 TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
   // AIS example (switch: no interval check), so the firmware's samples are exactly simulate()'s phases.
   const sim::Scenario& s = sim::find_scenario("ais_paper");
-  hal::HostBoard board(s, 7);
-  fw::IdentificationSequencer<hal::HostBoard, fw::AisPaperConfig> firmware(board);
+  sim::ScenarioBoard board = sim::make_scenario_board(s, 7);
+  fw::IdentificationSequencer<sim::ScenarioBoard, fw::AisPaperConfig> firmware(board);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
 
   sim::SimulationOptions options;
@@ -105,8 +105,8 @@ TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
 
 TEST(FirmwareOnHostBoard, DisExampleWithIntervalCheckIdentifiesTheBacklash) {
   const sim::Scenario& s = sim::find_scenario("dis_paper");
-  hal::HostBoard board(s, 3);
-  fw::IdentificationSequencer<hal::HostBoard, fw::DisPaperConfig> firmware(board);
+  sim::ScenarioBoard board = sim::make_scenario_board(s, 3);
+  fw::IdentificationSequencer<sim::ScenarioBoard, fw::DisPaperConfig> firmware(board);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
   const Reports r = reports_of(board);
   ASSERT_EQ(r.estimates.size(), 2u);
@@ -140,8 +140,8 @@ TEST(FirmwareOnHostBoard, RefusesAnIntervalTooNarrowForTheBacklash) {
                                                    sim::Border::from_table({{-0.5, 0.5}, {0.5, 1.5}}));
   };
   s.noise_variance = 1.0;
-  hal::HostBoard board(s, 1);
-  fw::IdentificationSequencer<hal::HostBoard, NarrowIntervalConfig> firmware(board);
+  sim::ScenarioBoard board = sim::make_scenario_board(s, 1);
+  fw::IdentificationSequencer<sim::ScenarioBoard, NarrowIntervalConfig> firmware(board);
   EXPECT_EQ(firmware.run(), fw::RunStatus::kIntervalTooNarrow);
   EXPECT_EQ(reports_of(board).done, static_cast<int>(fw::RunStatus::kIntervalTooNarrow));
   EXPECT_EQ(board.exchanges().size(), 4u * 72);  // it stopped after the check
@@ -153,8 +153,8 @@ TEST(FirmwareOnHostBoard, CrossCheckFlagsAPlantThatIsNotSwitchOrBacklash) {
   sim::Scenario s = sim::find_scenario("ais_paper");
   const auto inner = s.make_operator;
   s.make_operator = [inner] { return std::make_unique<sim::InputLagOperator>(inner(), 0.6); };
-  hal::HostBoard board(s, 1);
-  fw::IdentificationSequencer<hal::HostBoard, fw::AisPaperConfig> firmware(board);
+  sim::ScenarioBoard board = sim::make_scenario_board(s, 1);
+  fw::IdentificationSequencer<sim::ScenarioBoard, fw::AisPaperConfig> firmware(board);
   (void)firmware.run();
   const Reports r = reports_of(board);
   EXPECT_EQ(r.cross.disagree, 1) << "max z " << r.cross.max_z;
@@ -169,8 +169,8 @@ std::vector<std::uint8_t> command(hal::link::Command c) {
 
 TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
   const sim::Scenario& s = sim::find_scenario("ais_paper");
-  hal::HostBoard board(s, 1);
-  fw::IdentificationSequencer<hal::HostBoard, fw::AisPaperConfig> firmware(board, /*auto_start=*/false);
+  sim::ScenarioBoard board = sim::make_scenario_board(s, 1);
+  fw::IdentificationSequencer<sim::ScenarioBoard, fw::AisPaperConfig> firmware(board, /*auto_start=*/false);
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(firmware.step());
   EXPECT_EQ(firmware.stage(), fw::Stage::kIdle);
   EXPECT_TRUE(board.exchanges().empty());

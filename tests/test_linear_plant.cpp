@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "lashid/sim/linear_plant.hpp"
+#include "lashid/plant/linear_plant.hpp"
 
 namespace lashid::sim {
 namespace {

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "data_error_matchers.hpp"
-#include "lashid/sim/damper_data.hpp"
-#include "lashid/sim/identify.hpp"
-#include "lashid/sim/operator_fit.hpp"
+#include "lashid/io/damper_data.hpp"
+#include "lashid/identify/identify.hpp"
+#include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace {

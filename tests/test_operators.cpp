@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "lashid/sim/border.hpp"
-#include "lashid/sim/operators.hpp"
+#include "lashid/plant/border.hpp"
+#include "lashid/plant/operators.hpp"
 
 namespace lashid::sim {
 namespace {

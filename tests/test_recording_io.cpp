@@ -14,9 +14,10 @@
 #include <sstream>
 #include <string>
 
-#include "lashid/sim/recording.hpp"
+#include "lashid/io/recording.hpp"
 
 #include "data_error_matchers.hpp"
+#include "lashid/io/files.hpp"
 
 namespace lashid::sim {
 namespace {

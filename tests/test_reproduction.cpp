@@ -26,8 +26,8 @@
 #include "lashid/estimator/batch_ls.hpp"
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/estimator/regressor.hpp"
-#include "lashid/sim/paper_reference.hpp"
-#include "lashid/sim/reproduction.hpp"
+#include "lashid/paper/paper_reference.hpp"
+#include "lashid/paper/reproduction.hpp"
 #include "paper_examples.hpp"
 
 namespace {

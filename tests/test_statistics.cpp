@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "lashid/sim/linear_plant.hpp"
-#include "lashid/sim/statistics.hpp"
+#include "lashid/plant/linear_plant.hpp"
+#include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim::stats {
 namespace {

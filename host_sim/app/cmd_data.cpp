@@ -7,10 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "lashid/sim/identify.hpp"
-#include "lashid/sim/reproduction.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/identify/identify.hpp"
+#include "lashid/paper/reproduction.hpp"
 #include "lashid/sim/scenario.hpp"
-#include "report.hpp"
+#include "lashid/report/report.hpp"
+#include "lashid/io/files.hpp"
 
 namespace lashid::app {
 
@@ -70,7 +72,7 @@ int run_identify(const IdentifyArgs& args) {
     const bool dis = scheme == est::Scheme::kDescending;
     if (dis ? !want_dis : !want_ais) continue;
     const SchemeResult r = identify_scheme(config, rec, scheme, options, args.data);
-    print_scheme_result(config, r);
+    report::print_scheme_result(config, r);
     if (r.status != est::Status::kOk) exit_code = 2;
     out[dis ? "dis" : "ais"] = to_json(r);
   }

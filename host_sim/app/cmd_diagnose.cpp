@@ -7,8 +7,11 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
-#include "lashid/sim/diagnosis.hpp"
+#include "lashid/report/diagnose_plot.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/diagnose/diagnosis.hpp"
 #include "lashid/sim/hidden_effect.hpp"
+#include "lashid/io/files.hpp"
 
 namespace lashid::app {
 
@@ -22,8 +25,8 @@ int run_diagnose(const DiagnoseArgs& args) {
   const Diagnosis d = diagnose(config, rec, args.data);
   for (const std::string& line : d.findings) fmt::print("- {}\n", line);
   fmt::print("cause: {} {}\nfit_nominal: {:.2f} %\nfit_extended: {:.2f} %\n", to_string(d.cause),
-             d.parameters.dump(), d.fit_nominal, d.fit_extended);
-  if (!args.plot_out.empty()) plot_diagnosis(d, args.plot_out);
+             to_string(d.parameters), d.fit_nominal, d.fit_extended);
+  if (!args.plot_out.empty()) report::plot_diagnosis(d, args.plot_out);
   if (!args.json_out.empty()) write_json_file(args.json_out, to_json(d));
   return 0;
 }
@@ -54,13 +57,13 @@ namespace {
 bool parameter_ok(const HiddenEffect& truth, const Diagnosis& d) {
   switch (truth.cause) {
     case Cause::kInputLag:
-      return std::abs(d.parameters.value("lambda", -1.0) - truth.lambda) <= 0.05;
+      return std::abs(d.parameters.lambda.value_or(-1.0) - truth.lambda) <= 0.05;
     case Cause::kDeadTime:
-      return d.parameters.value("delay", -1) == truth.delay;
+      return d.parameters.delay.value_or(-1) == truth.delay;
     case Cause::kSensorDrift:
-      return std::abs(d.parameters.value("drift_total", 0.0) - truth.drift_total) <= 0.2 * std::abs(truth.drift_total);
+      return std::abs(d.parameters.drift_total.value_or(0.0) - truth.drift_total) <= 0.2 * std::abs(truth.drift_total);
     case Cause::kOperatorType:
-      return d.parameters.value("operator", std::string()) == to_string(truth.true_operator);
+      return d.parameters.op == truth.true_operator;
     default:
       return true;
   }
@@ -85,7 +88,7 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
       if (hit) ++parameter_hits[row];
       if (d.fit_extended > d.fit_nominal) ++gains[row];
       cases.push_back({{"cause", to_string(cause)}, {"seed", seed}, {"found", to_string(d.cause)},
-                       {"parameters", d.parameters}, {"hit", hit}, {"fit_nominal", d.fit_nominal},
+                       {"parameters", to_json(d.parameters)}, {"hit", hit}, {"fit_nominal", d.fit_nominal},
                        {"fit_extended", d.fit_extended}, {"n", c.config.n}, {"m", c.config.m},
                        {"truth", {{"lambda", c.effect.lambda}, {"delay", c.effect.delay},
                                   {"drift_total", c.effect.drift_total}, {"snr_db", c.effect.sensor_snr_db}}}});
@@ -98,7 +101,7 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
         fmt::print("{} {} seed {} n={} m={} -> {} {} (fit {:.1f} -> {:.1f}) truth l={:.3f} d={} D={:.3g} | Q {:.0f} "
                    "|{}\n",
                    hit ? "hit " : "MISS", to_string(cause), seed, c.config.n, c.config.m, to_string(d.cause),
-                   d.parameters.dump(), d.fit_nominal, d.fit_extended, c.effect.lambda, c.effect.delay,
+                   to_string(d.parameters), d.fit_nominal, d.fit_extended, c.effect.lambda, c.effect.delay,
                    c.effect.drift_total, d.identification.whiteness.statistic, evidence);
       }
     }

@@ -7,10 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "report.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/report/report.hpp"
 #include "lashid/estimator/status.hpp"
-#include "lashid/sim/config.hpp"
-#include "lashid/sim/hil.hpp"
+#include "lashid/io/config.hpp"
+#include "lashid/hil/hil.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::app {
@@ -136,7 +137,7 @@ int run_hil_command(const HilArgs& args) {
     const HilResult host = run_on_host_board(args.scenario, args.seed);
     double worst = 0;
     for (std::size_t s = 0; s < r.estimates.size() && s < host.estimates.size(); ++s) {
-      worst = std::fmax(worst, relative_difference(flatten(r.estimates[s]), flatten(host.estimates[s])));
+      worst = std::fmax(worst, report::relative_difference(flatten(r.estimates[s]), flatten(host.estimates[s])));
     }
     const bool same = host.estimates.size() == r.estimates.size() && worst <= args.tolerance &&
                       host.samples == r.samples;

@@ -10,12 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "lashid/sim/config.hpp"
-#include "lashid/sim/identify.hpp"
-#include "lashid/sim/operator_fit.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/io/config.hpp"
+#include "lashid/identify/identify.hpp"
+#include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/sim/scenario.hpp"
-#include "plot.hpp"
-#include "report.hpp"
+#include "lashid/report/plot.hpp"
+#include "lashid/report/report.hpp"
+#include "lashid/io/files.hpp"
 
 namespace lashid::app {
 
@@ -146,7 +148,7 @@ json run_identification(const HysteresisOperator& actuator, double v_min, double
   fmt::print("\nDIS/AIS with the fitted {} model as the actuator ({}):\n", actuator.name(), scenario.description);
   for (const auto scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
     const SchemeResult r = identify_scheme(scenario.config, rec, scheme, IdentifyOptions{}, scenario.name);
-    print_scheme_result(scenario.config, r);
+    report::print_scheme_result(scenario.config, r);
     out[scheme == est::Scheme::kDescending ? "dis" : "ais"] = to_json(r);
   }
   return out;
@@ -182,7 +184,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
 
   json fit_nominal_json = json::object(), fit_extended_json = json::object(), loops = json::object();
   std::vector<LoopAnalysis> nominal_analyses, extended_analyses;
-  plot::Figure figure;
+  report::plot::Figure figure;
   figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended)",
                              nominal.chosen);
   for (const auto& rec : test) {
@@ -258,7 +260,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
               {"cause", cause},
               {"loop_analysis", loops},
               {"identification", identification}};
-  if (!args.plot_out.empty()) plot::write_png(figure, args.plot_out, args.gnuplot);
+  if (!args.plot_out.empty()) report::plot::write_png(figure, args.plot_out, args.gnuplot);
   if (!args.json_out.empty()) {
     try {
       write_json_file(args.json_out, out);

@@ -10,9 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "lashid/sim/paper_reference.hpp"
-#include "lashid/sim/reproduction.hpp"
-#include "report.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/paper/paper_reference.hpp"
+#include "lashid/paper/reproduction.hpp"
+#include "lashid/report/report.hpp"
 
 namespace lashid::app {
 
@@ -27,7 +28,7 @@ void print_theta(const SchemeResult& r, std::span<const double> paper_theta, con
                paper_theta[k], truth[k]);
   }
   fmt::print("  ||ours - true|| / ||true|| = {:.4f}; ||paper - true|| / ||true|| = {:.4f}\n",
-             relative_difference(r.theta, truth), relative_difference(paper_theta, truth));
+             report::relative_difference(r.theta, truth), report::relative_difference(paper_theta, truth));
 }
 
 void print_points(const char* title, const std::vector<double>& V, const std::vector<double>& truth,
@@ -60,7 +61,7 @@ SchemeResult report_example(const PaperExample& x, const ScenarioRun& run) {
   const bool dis = x.scheme == est::Scheme::kDescending;
   const SchemeResult r = identify_scenario(s, x.scheme, run);
   fmt::print("== {}: {} (seed {}) ==\n", x.title, s.description, run.seed);
-  print_scheme_result(s.config, r);
+  report::print_scheme_result(s.config, r);
   fmt::print("  ybar0: ours {:.3f}, paper {:.2f}, true {:.3f}\n", r.ybar0, x.ybar0,
              *(dis ? s.config.truth->ybar0_d : s.config.truth->ybar0_a));
   fmt::print("  {}:\n", x.theta_label);
@@ -142,9 +143,9 @@ int run_reproduce(const ReproduceArgs& args) {
   // --- float32 (the firmware's precision) vs double ---------------------------------------------------------
   ScenarioRun f32 = run;
   f32.precision = Precision::kFloat;
-  const double dis_f = relative_difference(identify_scenario(dis_s, est::Scheme::kDescending, f32).theta, dis.theta);
+  const double dis_f = report::relative_difference(identify_scenario(dis_s, est::Scheme::kDescending, f32).theta, dis.theta);
   const double ais_f =
-      relative_difference(identify_scenario(find_scenario("ais_paper"), est::Scheme::kAscending, f32).theta, ais.theta);
+      report::relative_difference(identify_scenario(find_scenario("ais_paper"), est::Scheme::kAscending, f32).theta, ais.theta);
   fmt::print("\n== float32 recursive estimate vs double: ||dTheta|| / ||Theta|| = {:.2g} (DIS), {:.2g} (AIS) ==\n",
              dis_f, ais_f);
   out["float32_relative_difference"] = {{"dis", dis_f}, {"ais", ais_f}};

@@ -77,14 +77,7 @@ struct DiagnoseSweepArgs {
 };
 int run_diagnose_sweep(const DiagnoseSweepArgs& args);
 
-}  // namespace lashid::app
 
-namespace lashid::sim {
-struct Diagnosis;
-}
-namespace lashid::app {
-/// measured vs nominal vs extended simulation on val, residual autocorrelation and input cross-correlation.
-void plot_diagnosis(const sim::Diagnosis& diagnosis, const std::string& png_path);
 struct OperatorFitArgs {
   std::vector<std::string> train;
   std::vector<std::string> test;

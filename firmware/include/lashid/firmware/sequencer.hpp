@@ -6,6 +6,7 @@
 // Commands over the link (hal/link_protocol.hpp): start, stop, query. Heap-free, no exceptions, float32.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -161,7 +162,9 @@ class IdentificationSequencer {
     ++cost_.updates;
     ++t_;
     const bool dis = stage_ == Stage::kPulseD;
-    const int length = dis ? C::kPulseLengthD : C::kPulseLengthA;
+    // Indexed, not `dis ? D : A`: configs with equal lengths would make the branches identical.
+    constexpr std::array<int, 2> kPulseLengths = {C::kPulseLengthD, C::kPulseLengthA};
+    const int length = kPulseLengths[dis ? 0U : 1U];
     if (t_ % kPeriod == 0 || t_ == length) {  // an up-to-date estimate at least once per pulse period
       const std::uint32_t solve_start = board_.cycles();
       latest_ = identifier_.estimate(/*with_std_errors=*/false);

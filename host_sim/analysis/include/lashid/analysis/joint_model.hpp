@@ -1,0 +1,91 @@
+// One consistent model of the whole plant from both identification experiments, and its candidate extensions.
+//
+// The DIS and the AIS each give a linear part and one border (Sections 3 and 4). `lashid diagnose` needs a single
+// model it can simulate on arbitrary inputs, and the same fit with one physical effect added. Both come from the
+// regression (3.19) written for all identification phases at once (step_d, dis, step_a, ais, in recording order):
+//
+//   y(t) = -sum_i a_i y(t-i) + sum_i b_i u~(t-i) + kappa0 [+ kappa1 tau(t)] + e(t),    u~ = F[w] - u_M,
+//
+// where u~(t) = phi(t)' c is linear in the border values c: phi(t) holds the interpolation (hat) weights of w(t)
+// on the border the operator moves along at t, or phi(t-1) when it holds. The border points are the experiment's
+// own abscissas: C_d on V_d and v_max, C_a on V_a and v_min, with C_d(v_max) = C_a(v_max) = u_M (the reference,
+// u~ = 0) and C_a(v_min) = C_d(v_min) = u_m. Unknowns: a, the n x (2m-1) products b_i c_k (the paper's
+// over-parametrisation, (3.21)), kappa0 = B(1) u_M [+ A(1) offset], and, with drift, kappa1. Least squares (or
+// instrumental variables) gives them; b and c are recovered by the best rank-1 factorisation, scaled as (3.11c):
+// C~_d(v_min) = u_m - u_M = -1. With a white equation error and the nominal structure this is the same estimator
+// as the paper's; the extensions change w (input lag, dead time), add a regressor (drift) or the estimator (IV).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "lashid/io/config.hpp"
+#include "lashid/io/recording.hpp"
+
+namespace lashid::sim {
+
+/// The recording flattened in recording order; tau is the sample index from the first sample of the file.
+struct FlatRecording {
+  std::vector<double> v, y;
+  std::vector<Phase> phase;
+  std::size_t size() const { return v.size(); }
+  bool is_identification(std::size_t t) const { return phase[t] != Phase::kVal; }
+};
+FlatRecording flatten(const Recording& recording);
+
+/// What the model contains besides the nominal plant.
+struct ModelStructure {
+  OperatorKind op = OperatorKind::kBacklash;
+  double input_lag = 0;       ///< lambda of G = (1-lambda)/(1-lambda q^-1) before the operator (Section 3.5.3)
+  int delay = 0;              ///< extra pure delay d between command and effect
+  bool drift = false;         ///< y carries an offset that changes linearly over the recording
+  bool instrumental = false;  ///< instrumental variables instead of least squares (disturbance not white)
+};
+
+/// A fitted model, in the scaling of (3.11c) (u~ = F - u_M, C~_d(v_min) = -1).
+struct JointModel {
+  ModelStructure structure;
+  int n = 0;
+  double v_min = 0, v_max = 0;
+  std::vector<double> a, b;
+  std::vector<double> descending_v, descending_u;  ///< C~_d table: V_d, then v_max (u~ = 0)
+  std::vector<double> ascending_v, ascending_u;    ///< C~_a table: v_min (u~ = C~_d(v_min)), V_a ascending
+  double kappa0 = 0;            ///< constant of the equation: B(1) u_M + A(1) * offset
+  double kappa1 = 0;            ///< coefficient of tau / (samples - 1): A(1) * (offset change over the file)
+  double residual_variance = 0; ///< RSS / (rows - parameters) of the fit
+  double rss = 0;
+  std::size_t rows = 0;
+  int parameters = 0;
+  double rank_one_ratio = 0;    ///< sigma_2 / sigma_1 of the b c' products (0 = exactly rank one)
+  std::vector<double> residuals;         ///< of the regression, on the identification rows
+  std::vector<std::size_t> residual_t;   ///< sample index of each residual
+  bool ok = false;              ///< false: the regression was singular or the factorisation degenerate
+  std::string failure;          ///< why, when !ok
+
+  double a_sum() const;  ///< A(1)
+  /// Offset change from the first to the last sample of the recording (sensor_drift): kappa1 / A(1).
+  double drift_total() const;
+};
+
+/// Fits `structure` to the identification phases of `data` (the val phase is never used). For a backlash,
+/// `initial` (optional, same config) gives a second starting point for the operator's regimes.
+JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
+                           const JointModel* initial = nullptr);
+
+/// The command w(t) the operator sees: v delayed by d, then through G(lambda) (at rest on v(0) before t = 0).
+std::vector<double> effective_input(const std::vector<double>& v, const ModelStructure& structure);
+
+/// u~(t) of the fitted operator for the whole recording (state from t = 0: on C_d at w(0)).
+std::vector<double> operator_output(const JointModel& model, const FlatRecording& data);
+
+/// Pure simulation of the model over samples [begin, end): the past before `begin` is the measured output
+/// (the state carried over from the recording), the operator state comes from running it from t = 0.
+std::vector<double> simulate_segment(const JointModel& model, const FlatRecording& data, std::size_t begin,
+                                     std::size_t end);
+
+/// One-step prediction errors y(t) - y^(t|t-1) over [begin, end) (t >= n).
+std::vector<double> prediction_errors(const JointModel& model, const FlatRecording& data, std::size_t begin,
+                                      std::size_t end);
+
+}  // namespace lashid::sim

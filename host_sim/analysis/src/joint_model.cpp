@@ -1,0 +1,398 @@
+#include "lashid/analysis/joint_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "lashid/plant/border.hpp"
+#include "lashid/plant/operators.hpp"
+
+namespace lashid::sim {
+
+namespace {
+
+// Node abscissas of one border and, per node, the index of its value in c (-1: the reference u~ = 0 at v_max).
+struct BorderLayout {
+  std::vector<double> x;
+  std::vector<int> param;
+};
+
+// phi(t) per row; row-major so that a row is contiguous (filled through Ref<RowVectorXd>).
+using Basis = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+struct Layout {
+  BorderLayout ascending, descending;
+  int parameters = 0;  // 2m - 1
+};
+
+Layout make_layout(const ExperimentConfig& c) {
+  if (c.V_d.size() != static_cast<std::size_t>(c.m) || c.V_a.size() != static_cast<std::size_t>(c.m)) {
+    throw std::invalid_argument("the joint model needs both schemes: V_d and V_a with m points each");
+  }
+  const int m = c.m;
+  Layout l;
+  for (int j = 0; j < m; ++j) {
+    l.descending.x.push_back(c.V_d[static_cast<std::size_t>(j)]);
+    l.descending.param.push_back(j);
+  }
+  l.descending.x.push_back(c.v_max);
+  l.descending.param.push_back(-1);
+  l.ascending.x.push_back(c.v_min);
+  l.ascending.param.push_back(0);  // C_a(v_min) = C_d(v_min) = u_m
+  for (int j = m - 1; j >= 0; --j) {
+    l.ascending.x.push_back(c.V_a[static_cast<std::size_t>(j)]);
+    l.ascending.param.push_back(j == 0 ? -1 : m - 1 + j);
+  }
+  l.parameters = 2 * m - 1;
+  return l;
+}
+
+// Adds the hat-function weights of w on `border` to phi (w outside the nodes is clamped, as Border does).
+void add_hat(const BorderLayout& border, double w, Eigen::Ref<Eigen::RowVectorXd> phi) {
+  const auto& x = border.x;
+  w = std::clamp(w, x.front(), x.back());
+  auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), w) - x.begin());
+  k = std::clamp<std::size_t>(k, 1, x.size() - 1) - 1;
+  const double s = (w - x[k]) / (x[k + 1] - x[k]);
+  if (border.param[k] >= 0) phi(border.param[k]) += 1.0 - s;
+  if (border.param[k + 1] >= 0) phi(border.param[k + 1]) += s;
+}
+
+Border table_border(const std::vector<double>& x, const std::vector<double>& u) {
+  std::vector<std::pair<double, double>> points;
+  for (std::size_t i = 0; i < x.size(); ++i) points.emplace_back(x[i], u[i]);
+  return Border::from_table(std::move(points));
+}
+
+std::unique_ptr<HysteresisOperator> make_model_operator(const JointModel& model, double w0) {
+  Border asc = table_border(model.ascending_v, model.ascending_u);
+  Border desc = table_border(model.descending_v, model.descending_u);
+  const double u0 = desc(w0);
+  std::unique_ptr<HysteresisOperator> op;
+  if (model.structure.op == OperatorKind::kSwitch) {
+    op = std::make_unique<SwitchOperator>(std::move(asc), std::move(desc));
+  } else {
+    op = std::make_unique<BacklashOperator>(std::move(asc), std::move(desc));
+  }
+  op->reset(w0, u0);
+  return op;
+}
+
+// phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
+// The switch's regime depends on the direction of w only; the backlash's also on the borders, taken from
+// `current` (the previous fit) when given, otherwise the switch's regimes are used as the first guess.
+Basis operator_basis(const Layout& layout, const std::vector<double>& w, OperatorKind op,
+                               const JointModel* current) {
+  const std::size_t T = w.size();
+  Basis phi = Basis::Zero(static_cast<Eigen::Index>(T), layout.parameters);
+  std::unique_ptr<HysteresisOperator> model_op;
+  if (op == OperatorKind::kBacklash && current != nullptr) model_op = make_model_operator(*current, w[0]);
+  double u_prev = model_op ? model_op->step(w[0]) : 0.0;
+  add_hat(layout.descending, w[0], phi.row(0));
+  for (std::size_t t = 1; t < T; ++t) {
+    const auto row = static_cast<Eigen::Index>(t);
+    bool hold = w[t] == w[t - 1];
+    if (model_op) {
+      const double u = model_op->step(w[t]);
+      hold = hold || u == u_prev;
+      u_prev = u;
+    }
+    if (hold) {
+      phi.row(row) = phi.row(row - 1);
+    } else {
+      add_hat(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t], phi.row(row));
+    }
+  }
+  return phi;
+}
+
+double tau(std::size_t t, std::size_t samples) {
+  return samples > 1 ? static_cast<double>(t) / static_cast<double>(samples - 1) : 0.0;
+}
+
+// One fit for a fixed basis (regime sequence). `instruments_y`, when given, replaces y in the instruments.
+JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, const FlatRecording& data,
+                          const ModelStructure& structure, const Basis& phi,
+                          const std::vector<double>* instruments_y) {
+  const int n = config.n;
+  const int P = layout.parameters;
+  const std::size_t T = data.size();
+  const int cols = n + n * P + 1 + (structure.drift ? 1 : 0);
+  std::vector<std::size_t> rows;
+  for (std::size_t t = static_cast<std::size_t>(n); t < T; ++t) {
+    if (data.is_identification(t)) rows.push_back(t);
+  }
+  JointModel model;
+  model.structure = structure;
+  model.n = n;
+  model.v_min = config.v_min;
+  model.v_max = config.v_max;
+  model.rows = rows.size();
+  model.parameters = cols;
+  if (rows.size() <= static_cast<std::size_t>(cols)) {
+    model.failure = fmt::format("{} identification rows for {} parameters", rows.size(), cols);
+    return model;
+  }
+  const auto R = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd X(R, cols);
+  Eigen::VectorXd Y(R);
+  Eigen::MatrixXd Z;
+  if (instruments_y != nullptr) Z.resize(R, cols);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const std::size_t t = rows[static_cast<std::size_t>(r)];
+    Y(r) = data.y[t];
+    for (int i = 1; i <= n; ++i) {
+      X(r, i - 1) = -data.y[t - static_cast<std::size_t>(i)];
+      X.block(r, n + (i - 1) * P, 1, P) = phi.row(static_cast<Eigen::Index>(t) - i);
+    }
+    X(r, n + n * P) = 1.0;
+    if (structure.drift) X(r, n + n * P + 1) = tau(t, T);
+    if (instruments_y != nullptr) {
+      Z.row(r) = X.row(r);
+      for (int i = 1; i <= n; ++i) Z(r, i - 1) = -(*instruments_y)[t - static_cast<std::size_t>(i)];
+    }
+  }
+  // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
+  // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
+  // interpolation below (their value does not affect this data, only the simulation elsewhere).
+  std::vector<bool> excited(static_cast<std::size_t>(P), false);
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    const bool basis = k >= n && k < n + n * P;
+    if (basis) {
+      const auto p = static_cast<std::size_t>((k - n) % P);
+      if (X.col(k).squaredNorm() > 0) excited[p] = true;
+    }
+  }
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    const bool basis = k >= n && k < n + n * P;
+    if (!basis || excited[static_cast<std::size_t>((k - n) % P)]) keep.push_back(k);
+  }
+  if (static_cast<Eigen::Index>(keep.size()) < cols) {
+    X = X(Eigen::all, keep).eval();
+    if (instruments_y != nullptr) Z = Z(Eigen::all, keep).eval();
+    model.parameters = static_cast<int>(keep.size());
+  }
+  const auto kept = static_cast<int>(keep.size());
+  Eigen::VectorXd reduced;
+  if (instruments_y == nullptr) {
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+    if (qr.rank() < kept) {
+      model.failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
+                                  "the experiments do not excite every border point",
+                                  qr.rank(), kept);
+      return model;
+    }
+    reduced = qr.solve(Y);
+  } else {
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(Z.transpose() * X);
+    if (!lu.isInvertible()) {
+      model.failure = "the instrumental-variable system is singular";
+      return model;
+    }
+    reduced = lu.solve(Z.transpose() * Y);
+  }
+  const Eigen::VectorXd residuals = Y - X * reduced;
+  model.rss = residuals.squaredNorm();
+  model.residuals.assign(residuals.data(), residuals.data() + residuals.size());
+  model.residual_t = rows;
+  model.residual_variance = model.rss / static_cast<double>(R - kept);
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
+  for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = reduced(static_cast<Eigen::Index>(i));
+  model.a.assign(theta.data(), theta.data() + n);
+  Eigen::MatrixXd products(n, P);
+  for (int i = 0; i < n; ++i) products.row(i) = theta.segment(n + i * P, P).transpose();
+  model.kappa0 = theta(n + n * P);
+  model.kappa1 = structure.drift ? theta(n + n * P + 1) : 0.0;
+
+  // Best rank-1 factorisation b c' of the products, scaled so that C~_d(v_min) = c_0 = -1 (3.11c).
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(products, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  Eigen::VectorXd c = svd.matrixV().col(0);
+  Eigen::VectorXd b = s(0) * svd.matrixU().col(0);
+  model.rank_one_ratio = s.size() > 1 && s(0) > 0 ? s(1) / s(0) : 0.0;
+  if (!excited[0] || !(std::abs(c(0)) > 1e-9 * c.norm())) {
+    model.failure = "degenerate borders: the estimated u_m equals u_M";
+    return model;
+  }
+  const double scale = -1.0 / c(0);
+  c *= scale;
+  b /= scale;
+  model.b.assign(b.data(), b.data() + n);
+  const auto values = [&](const BorderLayout& border, std::vector<double>& x, std::vector<double>& u) {
+    x = border.x;
+    u.clear();
+    std::vector<bool> known;
+    for (int p : border.param) {
+      u.push_back(p < 0 ? 0.0 : c(p));
+      known.push_back(p < 0 || excited[static_cast<std::size_t>(p)]);
+    }
+    // Unexcited points: linear interpolation between the nearest excited neighbours on the same border.
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      if (known[i]) continue;
+      std::size_t lo = i, hi = i;
+      while (lo > 0 && !known[lo]) --lo;
+      while (hi + 1 < u.size() && !known[hi]) ++hi;
+      if (!known[lo]) lo = hi;
+      if (!known[hi]) hi = lo;
+      const double f = hi == lo ? 0.0 : (x[i] - x[lo]) / (x[hi] - x[lo]);
+      u[i] = u[lo] + f * (u[hi] - u[lo]);
+    }
+  };
+  values(layout.descending, model.descending_v, model.descending_u);
+  values(layout.ascending, model.ascending_v, model.ascending_u);
+  model.ok = true;
+  return model;
+}
+
+}  // namespace
+
+FlatRecording flatten(const Recording& recording) {
+  FlatRecording f;
+  for (Phase p : recording.order()) {
+    for (const Sample& s : recording.phase(p)) {
+      f.v.push_back(s.v);
+      f.y.push_back(s.y);
+      f.phase.push_back(p);
+    }
+  }
+  return f;
+}
+
+double JointModel::a_sum() const {
+  double s = 1.0;
+  for (double x : a) s += x;
+  return s;
+}
+
+double JointModel::drift_total() const { return kappa1 / a_sum(); }
+
+std::vector<double> effective_input(const std::vector<double>& v, const ModelStructure& structure) {
+  std::vector<double> w(v.size());
+  const auto d = static_cast<std::size_t>(std::max(structure.delay, 0));
+  const double lambda = structure.input_lag;
+  double state = v.empty() ? 0.0 : v[0];
+  for (std::size_t t = 0; t < v.size(); ++t) {
+    const double delayed = t >= d ? v[t - d] : v[0];
+    state = lambda * state + (1.0 - lambda) * delayed;
+    w[t] = lambda == 0.0 ? delayed : state;
+  }
+  return w;
+}
+
+JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
+                           const JointModel* initial) {
+  const Layout layout = make_layout(config);
+  const std::vector<double> w = effective_input(data.v, structure);
+  ModelStructure ls_structure = structure;
+  ls_structure.instrumental = false;
+  // A backlash's regimes depend on its borders: starting from a first guess of the regimes, refit until they no
+  // longer change. A refit is kept only if it fits better: a poor first model (e.g. of a plant with an unmodelled
+  // effect) can have borders that make its backlash hold where the plant moves, leaving border points unexcited.
+  // First guesses: the switch's regimes (exact for the nominal experiments, where F acts as a static map) and,
+  // when given, the regimes of `initial` (e.g. the nominal fit, a better start once the input is filtered).
+  const auto fit_from = [&](const JointModel* start) {
+    Basis phi = operator_basis(layout, w, structure.op, start);
+    JointModel model = fit_with_basis(config, layout, data, ls_structure, phi, nullptr);
+    JointModel current = model;
+    Basis current_phi = phi;
+    for (int pass = 0; pass < 8 && current.ok && structure.op == OperatorKind::kBacklash; ++pass) {
+      Basis next = operator_basis(layout, w, structure.op, &current);
+      if (next == current_phi) break;
+      current = fit_with_basis(config, layout, data, ls_structure, next, nullptr);
+      current_phi = std::move(next);
+      if (current.ok && current.rss < model.rss) {
+        model = current;
+        phi = current_phi;
+      }
+    }
+    return std::pair{std::move(model), std::move(phi)};
+  };
+  auto [model, phi] = fit_from(nullptr);
+  if (initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash) {
+    auto [other, other_phi] = fit_from(initial);
+    if (other.ok && (!model.ok || other.rss < model.rss)) {
+      model = std::move(other);
+      phi = std::move(other_phi);
+    }
+  }
+  if (!structure.instrumental || !model.ok) return model;
+  // Instrumental variables: the noise-free simulated output of the least-squares model replaces y in the
+  // instruments, so they are uncorrelated with a coloured disturbance (Soderstrom & Stoica, Ch. 8). Two passes.
+  // If the least-squares model is unstable (its simulation diverges), the delayed operator outputs replace the
+  // simulated outputs: u~(t - n - i) is as uncorrelated with the disturbance, only less correlated with y.
+  const JointModel ls_model = model;
+  for (int pass = 0; pass < 2 && model.ok; ++pass) {
+    std::vector<double> x = simulate_segment(model, data, 0, data.size());
+    if (!std::all_of(x.begin(), x.end(), [](double value) { return std::isfinite(value); })) {
+      const std::vector<double> u = operator_output(ls_model, data);
+      const auto lag = static_cast<std::size_t>(config.n);
+      for (std::size_t t = 0; t < x.size(); ++t) x[t] = t >= lag ? u[t - lag] : u[0];
+    }
+    JointModel iv = fit_with_basis(config, layout, data, structure, phi, &x);
+    if (!iv.ok) {
+      if (pass == 0) return iv;
+      break;
+    }
+    model = std::move(iv);
+  }
+  return model;
+}
+
+std::vector<double> operator_output(const JointModel& model, const FlatRecording& data) {
+  const std::vector<double> w = effective_input(data.v, model.structure);
+  std::vector<double> u(w.size());
+  if (w.empty()) return u;
+  auto op = make_model_operator(model, w[0]);
+  for (std::size_t t = 0; t < w.size(); ++t) u[t] = op->step(w[t]);
+  return u;
+}
+
+namespace {
+
+// y(t) of the model's equation given the past outputs `past(t - i)` and the operator outputs u.
+template <class Past>
+double model_equation(const JointModel& model, const FlatRecording& data, const std::vector<double>& u, std::size_t t,
+                      Past past) {
+  double y = model.kappa0 + model.kappa1 * tau(t, data.size());
+  for (int i = 1; i <= model.n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double u_lag = t >= k ? u[t - k] : u[0];
+    y += -model.a[k - 1] * past(t, k) + model.b[k - 1] * u_lag;
+  }
+  return y;
+}
+
+}  // namespace
+
+std::vector<double> simulate_segment(const JointModel& model, const FlatRecording& data, std::size_t begin,
+                                     std::size_t end) {
+  if (begin > end || end > data.size()) throw std::out_of_range("simulate_segment: bad sample range");
+  const std::vector<double> u = operator_output(model, data);
+  std::vector<double> ys(end - begin);
+  const auto past = [&](std::size_t t, std::size_t k) {
+    if (t >= k && t - k >= begin) return ys[t - k - begin];
+    return t >= k ? data.y[t - k] : data.y[0];
+  };
+  for (std::size_t t = begin; t < end; ++t) ys[t - begin] = model_equation(model, data, u, t, past);
+  return ys;
+}
+
+std::vector<double> prediction_errors(const JointModel& model, const FlatRecording& data, std::size_t begin,
+                                      std::size_t end) {
+  if (begin > end || end > data.size()) throw std::out_of_range("prediction_errors: bad sample range");
+  const std::vector<double> u = operator_output(model, data);
+  std::vector<double> e;
+  const auto past = [&](std::size_t t, std::size_t k) { return t >= k ? data.y[t - k] : data.y[0]; };
+  for (std::size_t t = std::max(begin, static_cast<std::size_t>(model.n)); t < end; ++t) {
+    e.push_back(data.y[t] - model_equation(model, data, u, t, past));
+  }
+  return e;
+}
+
+}  // namespace lashid::sim

@@ -1,0 +1,88 @@
+// `lashid diagnose`: what the identified model gets wrong on measured data, the physical cause, the extended
+// model and the gain on the validation phase. The method and its measured hit rates are in docs/diagnose.md.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <optional>
+
+#include "lashid/io/config.hpp"
+#include "lashid/identify/identify.hpp"
+#include "lashid/plant/effect.hpp"
+#include "lashid/analysis/joint_model.hpp"
+#include "lashid/io/recording.hpp"
+#include "lashid/stats/statistics.hpp"
+
+namespace lashid::sim {
+
+/// Correlation analysis of one residual sequence (Ljung 1999, Section 16.6).
+struct ResidualAnalysis {
+  std::size_t samples = 0;
+  std::vector<double> autocorrelation;    ///< lags 0..kResidualLags
+  std::vector<double> cross_correlation;  ///< with the input v, lags -kResidualLags..kResidualLags
+  double band = 0;                        ///< 99 % band of a correlation of white sequences
+  stats::PortmanteauTest whiteness{};     ///< Ljung-Box on the autocorrelation
+  stats::PortmanteauTest independence{};  ///< residual-input cross-correlation test (lags 0..kResidualLags)
+  stats::TrendTest trend{};               ///< linear trend of the residuals over the sequence
+};
+inline constexpr int kResidualLags = 20;
+
+/// The fitted size of a cause: only the member of its cause is set (none: nothing).
+struct CauseParameters {
+  std::optional<double> lambda;        ///< input_lag
+  std::optional<int> delay;            ///< dead_time, in samples
+  std::optional<double> drift_total;   ///< sensor_drift: offset change over the file
+  bool instrumental_variables = false; ///< colored_noise: the extended model is the IV estimate
+  std::optional<OperatorKind> op;      ///< operator_type: the operator the data supports
+  friend bool operator==(const CauseParameters&, const CauseParameters&) = default;
+};
+/// The parameters as the JSON object of the output, on one line, e.g. {"lambda":0.31}.
+std::string to_string(const CauseParameters& parameters);
+
+/// One tested cause: the model extended with it, fitted on the identification phases.
+struct CandidateCause {
+  Cause cause = Cause::kNone;
+  JointModel model;
+  double statistic = 0;  ///< likelihood ratio N ln(RSS_nominal / RSS_extended) on the identification phases
+  double p_value = 1;    ///< chi2(1) tail of the statistic (operator_type: not a likelihood ratio, see docs)
+  double likelihood_ratio = 0;  ///< N ln(RSS_nominal / RSS_extended) on the identification phases (every cause)
+  double fit_val = 0;    ///< simulation fit on val
+  ResidualAnalysis identification;  ///< of the extended model's one-step residuals
+  CauseParameters parameters;
+};
+
+struct Diagnosis {
+  Cause cause = Cause::kNone;
+  CauseParameters parameters;
+  JointModel nominal, extended;
+  double fit_nominal = 0, fit_extended = 0;  ///< 100 (1 - ||y - y_sim|| / ||y - mean y||) on val
+  ResidualAnalysis identification, validation;  ///< nominal model's one-step residuals
+  SchemeResult dis, ais;                        ///< the paper's per-scheme estimates
+  double remark3b_z = 0;  ///< max_i |a_i(DIS) - a_i(AIS)| / sqrt(se^2 + se^2) (Remark 3b)
+  std::vector<CandidateCause> candidates;
+  std::vector<std::string> findings;  ///< what the simulation gets wrong, in words
+  std::size_t val_begin = 0, val_end = 0;
+  std::vector<double> val_v, val_measured, val_nominal, val_extended;
+};
+
+/// Thresholds of the decision (docs/diagnose.md explains how they were chosen, on seeds the tests do not use).
+struct DiagnosisOptions {
+  double structural_p = 1e-6;      ///< a structural extension must beat the nominal model at this level
+  double white_p = 1e-4;           ///< residuals count as white above this Ljung-Box p-value
+  double whiteness_ratio = 0.1;    ///< or when an extension cuts the nominal Ljung-Box statistic below this fraction
+  double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the nominal one
+  double max_input_lag = 0.8;
+  int max_delay = 5;
+};
+
+/// Throws DataError naming `data_name` when the recording lacks a phase, does not match the config, or a phase
+/// is too short; throws std::runtime_error when the nominal fit is numerically impossible.
+Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, std::string_view data_name,
+                   const DiagnosisOptions& options = {});
+
+/// What the nominal simulation gets wrong and what the evidence says, in sentences (diagnosis_report.cpp).
+std::vector<std::string> describe_findings(const Diagnosis& diagnosis);
+
+}  // namespace lashid::sim

@@ -1,0 +1,59 @@
+// Host-in-the-loop: the identification firmware runs on an emulated Cortex-M (QEMU mps2) and the host plays the
+// actuator and the plant on the other end of its UART1 (one kActuate/kMeasurement exchange per sample), while
+// UART0 carries the start command and the firmware's reports (hal/link_protocol.hpp, firmware/messages.hpp).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lashid/firmware/messages.hpp"
+#include "lashid/hal/host_board.hpp"
+#include "lashid/sim/scenario.hpp"
+
+namespace lashid::sim {
+
+struct HilOptions {
+  std::string firmware;                 ///< the firmware ELF (QEMU is started with it, unless attaching)
+  /// Attach instead of starting QEMU: the Unix sockets of a QEMU started by the user with
+  /// `-serial unix:LINK,server=on,wait=off -serial unix:PLANT,server=on,wait=off` (UART0, UART1). The session
+  /// ends at the firmware's kDone frame; QEMU's exit status is then unknown (qemu_exit stays -1).
+  std::string attach_link;
+  std::string attach_plant;
+  std::string scenario;                 ///< the plant the host plays (dis_paper, ais_paper, ...)
+  std::uint64_t seed = 1;
+  std::string machine = "mps2-an386";   ///< QEMU machine
+  std::string qemu = "qemu-system-arm";
+  double timeout_seconds = 300;         ///< wall-clock limit for the whole run; QEMU is killed after it
+  int corrupt_every = 0;                ///< > 0: flip one bit in every k-th measurement frame (fault injection)
+  bool icount = false;                  ///< QEMU -icount shift=0: deterministic cycle counts, much slower I/O
+};
+
+struct HilResult {
+  std::vector<fw::EstimateRecord> estimates;  ///< in the order received (DIS, then AIS)
+  std::optional<fw::CrossCheckRecord> cross_check;
+  std::optional<fw::CostRecord> cost;
+  int done = -1;                      ///< fw::RunStatus of the kDone frame, -1 if none arrived
+  int qemu_exit = -1;                 ///< QEMU's exit status (the firmware's semihosting exit code)
+  std::uint32_t samples = 0;          ///< plant steps taken by the host
+  std::uint32_t repeated_requests = 0;  ///< kActuate for an already answered t (answered from the cache)
+  std::uint32_t protocol_errors = 0;  ///< frames the host dropped (checksum/length) or could not use
+  std::uint32_t corrupted_by_host = 0;  ///< frames deliberately damaged (corrupt_every)
+  std::string console;                ///< what the firmware printed (semihosting)
+};
+
+/// Runs QEMU with the firmware and plays the scenario's plant. Throws std::runtime_error when QEMU cannot be
+/// started, a socket fails, or the time limit is exceeded.
+HilResult run_hil(const HilOptions& options);
+
+/// The firmware's board on the PC with a scenario's plant in-process: the same plant `lashid hil` plays over the
+/// UART, stepped directly.
+using ScenarioBoard = hal::HostBoard<ScenarioPlant>;
+ScenarioBoard make_scenario_board(const Scenario& scenario, std::uint64_t seed);
+
+/// The same firmware (same configuration) on the in-process host board with the same scenario and seed: the
+/// reference the QEMU run must equal within float32 rounding.
+HilResult run_on_host_board(const std::string& scenario, std::uint64_t seed);
+
+}  // namespace lashid::sim

@@ -1,0 +1,51 @@
+// Runs the estimator (estimator/, compile-time n and m) on a recording (runtime n and m): dispatches the config's
+// orders to the compiled instantiations and copies the estimate into runtime-sized vectors. Same estimator code
+// as the firmware; double by default, float32 on request to see what the target would compute.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lashid/estimator/design.hpp"
+#include "lashid/estimator/status.hpp"
+#include "lashid/io/config.hpp"
+#include "lashid/io/recording.hpp"
+
+namespace lashid::sim {
+
+enum class Precision { kDouble, kFloat };
+
+// The least squares is always the recursive estimator the firmware runs (GroupedLeastSquares). The batch (3.21)
+// reference is used by the tests at fixed orders: instantiating its fixed-size eigen-solvers for every (n, m) of
+// the dispatch would cost minutes of compile time for no user-facing benefit.
+struct IdentifyOptions {
+  Precision precision = Precision::kDouble;
+};
+
+/// One scheme's estimate, in the paper's order and the scaling of (3.11c).
+struct SchemeResult {
+  est::Scheme scheme = est::Scheme::kDescending;
+  est::Status status = est::Status::kNotExcited;
+  std::vector<double> a, b, c, F, F_centered, theta, theta_std_error;
+  double ybar0 = 0;         ///< step-experiment mean (3.7)
+  double held_output = 0;   ///< A(1)/B(1) ybar0: u_M (DIS) or u_m (AIS)
+  double noise_variance = 0;
+  double rcond = 0;
+  std::uint32_t rows = 0;
+  std::int64_t step_samples = 0;
+  std::int64_t pulse_samples = 0;
+};
+
+/// Identifies one scheme from its two phases (step_d + dis, or step_a + ais). Throws DataError (naming the data
+/// source, phase, t and the reason) when a sample is off the design of `config`, or when the phases are missing.
+/// Numerical failure (ill-conditioning, degenerate gain) is not thrown: it is the result's status.
+SchemeResult identify_scheme(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
+                             const IdentifyOptions& options, std::string_view data_name);
+
+/// Supported orders of the runtime dispatch (the compiled instantiations).
+inline constexpr int kDispatchMaxOrder = kMaxOrder;
+inline constexpr int kDispatchMaxPoints = kMaxPoints;
+
+}  // namespace lashid::sim

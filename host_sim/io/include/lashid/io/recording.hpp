@@ -1,0 +1,76 @@
+// Recorded input/output data of one identification session, and its CSV file format.
+// The format is specified in docs/data-format.md.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "lashid/io/data_error.hpp"
+
+namespace lashid::sim {
+
+// The experiments of the paper, in the order `simulate` records them:
+// step_d / dis = descendent step and pulse experiments (Section 3),
+// step_a / ais = ascendent step and pulse experiments (Section 4.1),
+// val = validation data with an arbitrary input.
+enum class Phase { kStepD, kDis, kStepA, kAis, kVal };
+
+inline constexpr std::size_t kPhaseCount = 5;
+inline constexpr std::array<Phase, kPhaseCount> kAllPhases = {Phase::kStepD, Phase::kDis, Phase::kStepA, Phase::kAis,
+                                                              Phase::kVal};
+
+// The name used in CSV files: "step_d", "dis", "step_a", "ais", "val".
+std::string_view to_string(Phase phase);
+// Inverse of to_string; exact, case-sensitive match.
+std::optional<Phase> parse_phase(std::string_view name);
+
+// One sample: command v applied at time t and output y measured at time t.
+struct Sample {
+  double v;
+  double y;
+  friend bool operator==(const Sample&, const Sample&) = default;
+};
+
+// A continuous recording made of phase blocks. Each phase occurs at most once, as one contiguous
+// block; the sample time t within a phase is the index into that phase's samples.
+class Recording {
+ public:
+  // Appends to the last block if `phase` is the current phase, otherwise starts a new block.
+  // Throws std::invalid_argument if `phase` already has an earlier, closed block.
+  void append(Phase phase, double v, double y);
+
+  bool has(Phase phase) const;
+  // Samples of `phase`; an empty span if the phase is absent.
+  std::span<const Sample> phase(Phase phase) const;
+  // Phases in recording order.
+  const std::vector<Phase>& order() const;
+  // Total number of samples over all phases.
+  std::size_t size() const;
+
+  friend bool operator==(const Recording&, const Recording&) = default;
+
+ private:
+  std::vector<Phase> order_;
+  std::array<std::vector<Sample>, kPhaseCount> samples_by_phase_;
+};
+
+// Reads a recording CSV file. Throws DataError (file not found/unreadable, or any format error).
+Recording read_recording_csv(const std::filesystem::path& path);
+// Same as read_recording_csv, from text in memory; `source_name` stands for the file name in errors.
+Recording parse_recording_csv(std::string_view text, std::string_view source_name);
+
+// Writes `recording` as CSV, preceded by one "# " comment line per entry of `comment_lines`
+// (an entry containing newlines becomes several comment lines). The file is replaced atomically.
+// Numbers are written in shortest round-trip form, so reading gives back the exact doubles.
+// Throws DataError if the recording could not be read back (empty, non-finite values) or the
+// file cannot be written.
+void write_recording_csv(const std::filesystem::path& path, const Recording& recording,
+                         const std::vector<std::string>& comment_lines);
+
+}  // namespace lashid::sim

@@ -1,0 +1,93 @@
+// Whether a recording fits an experiment config (levels, schemes, lengths), and the operator names.
+#include "lashid/io/config.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "lashid/estimator/design.hpp"
+
+namespace lashid::sim {
+
+std::string_view to_string(OperatorKind kind) { return kind == OperatorKind::kSwitch ? "switch" : "backlash"; }
+
+namespace {
+
+// The levels an identification phase may apply: the paper's step (3.4)/(4.1) and pulse (3.1)/(4.2) inputs.
+std::vector<double> allowed_levels(const ExperimentConfig& config, Phase phase) {
+  std::vector<double> levels;
+  switch (phase) {
+    case Phase::kStepD:
+    case Phase::kStepA:
+      levels = {config.v_min, config.v_max};
+      break;
+    case Phase::kDis:
+      levels = config.V_d;
+      levels.push_back(config.v_max);
+      break;
+    case Phase::kAis:
+      levels = config.V_a;
+      levels.push_back(config.v_min);
+      break;
+    case Phase::kVal:
+      break;
+  }
+  return levels;
+}
+
+}  // namespace
+
+void check_recording_matches(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
+  const auto fail = [&](std::string_view message) { throw DataError(data_name, message); };
+  const auto n = static_cast<std::size_t>(config.n);
+  // Same matching tolerance as est::LagrangeBasis::classify (64 eps relative to the largest |W_j|, which is
+  // v_max - v_min for both schemes): levels that went through a text conversion still count as on-design.
+  const double tolerance = 64.0 * std::numeric_limits<double>::epsilon() * (config.v_max - config.v_min);
+  const auto matches = [tolerance](double v, double level) { return std::fabs(v - level) <= tolerance; };
+  // Two periods of the estimator's schedule (spacing max(n, 2), see est::schedule) are the least that shows every
+  // level after a full period.
+  const auto pulse_minimum = static_cast<std::size_t>(2 * est::schedule::period(config.n, config.m));
+  for (const Phase phase : recording.order()) {
+    if (phase == Phase::kVal) continue;  // validation data may use any input
+    const std::string_view name = to_string(phase);
+    if (phase == Phase::kDis && config.V_d.empty()) {
+      fail("phase 'dis' is recorded but the config has no 'V_d' (the DIS needs its pulse levels)");
+    }
+    if (phase == Phase::kAis && config.V_a.empty()) {
+      fail("phase 'ais' is recorded but the config has no 'V_a' (the AIS needs its pulse levels)");
+    }
+
+    const std::span<const Sample> samples = recording.phase(phase);
+    const std::vector<double> levels = allowed_levels(config, phase);
+    for (std::size_t t = 0; t < samples.size(); ++t) {
+      const double v = samples[t].v;
+      if (v < config.v_min - tolerance || v > config.v_max + tolerance) {
+        fail(fmt::format("phase '{}' t = {}: v = {} is outside [v_min, v_max] = [{}, {}]", name, t, v, config.v_min,
+                         config.v_max));
+      }
+      // The estimator treats the border as static only because the input visits these exact levels.
+      if (std::none_of(levels.begin(), levels.end(), [&](double level) { return matches(v, level); })) {
+        fail(fmt::format("phase '{}' t = {}: v = {} is not one of the configured levels [{}] of this phase", name, t, v,
+                         fmt::join(levels, ", ")));
+      }
+    }
+
+    const bool is_step = phase == Phase::kStepD || phase == Phase::kStepA;
+    if (is_step && samples.size() < n + 1) {
+      fail(
+          fmt::format("phase '{}' has {} samples; at least n + 1 = {} are needed (the initial sample plus n samples "
+                      "of response, the memory of the order-n subsystem)",
+                      name, samples.size(), n + 1));
+    }
+    if (!is_step && samples.size() < pulse_minimum) {
+      fail(
+          fmt::format("phase '{}' has {} samples; at least 2*max(n,2)*(m+3) = {} are needed (two periods "
+                      "T = max(n,2)(m+3) of the pulse sequence of Theorem 3.1, so the estimator sees every level)",
+                      name, samples.size(), pulse_minimum));
+    }
+  }
+}
+
+}  // namespace lashid::sim

@@ -1,0 +1,290 @@
+// The experiment config JSON of docs/data-format.md: reader with key-naming errors, and the writer.
+#include "lashid/io/config.hpp"
+#include "lashid/io/json.hpp"
+
+#include "lashid/estimator/design.hpp"
+#include "lashid/io/files.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>  // fmt::join
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <span>
+#include <string>
+
+namespace lashid::sim {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::array<std::string_view, 8> kConfigKeys = {"n", "m", "v_min", "v_max", "V_d", "V_a", "operator", "truth"};
+constexpr std::array<std::string_view, 6> kTruthKeys = {"a", "b", "F_d", "F_a", "ybar0_d", "ybar0_a"};
+
+// Turns the JSON document into an ExperimentConfig, naming the offending key in every error.
+class ConfigReader {
+ public:
+  explicit ConfigReader(std::string_view source_name) : source_name_(source_name) {}
+
+  ExperimentConfig read(const json& document) const {
+    if (!document.is_object()) fail(fmt::format("the top level must be a JSON object, got {}", document.type_name()));
+    reject_unknown_keys(document, kConfigKeys, "");
+
+    ExperimentConfig config{};
+    config.n = read_int(document, "n", kMinOrder, kMaxOrder);
+    config.m = read_int(document, "m", kMinPoints, kMaxPoints);
+    config.v_min = read_finite(required(document, "v_min"), "v_min");
+    config.v_max = read_finite(required(document, "v_max"), "v_max");
+    if (!(config.v_min < config.v_max)) {
+      fail(fmt::format("'v_max' = {} must be greater than 'v_min' = {}", config.v_max, config.v_min));
+    }
+    config.op = read_operator(required(document, "operator"));
+    const auto m = static_cast<std::size_t>(config.m);
+    if (document.contains("V_d")) {
+      config.V_d = read_array(document.at("V_d"), "V_d", m, "m");
+      check_descendent_levels(config);
+    }
+    if (document.contains("V_a")) {
+      config.V_a = read_array(document.at("V_a"), "V_a", m, "m");
+      check_ascendent_levels(config);
+    }
+    if (document.contains("truth")) config.truth = read_truth(document.at("truth"), config);
+    return config;
+  }
+
+ private:
+  [[noreturn]] void fail(std::string_view message) const { throw DataError(source_name_, message); }
+
+  void reject_unknown_keys(const json& object, std::span<const std::string_view> known, std::string_view prefix) const {
+    for (const auto& [key, value] : object.items()) {
+      if (std::find(known.begin(), known.end(), key) == known.end()) {
+        fail(fmt::format("unknown key '{}{}' (allowed: {})", prefix, key, fmt::join(known, ", ")));
+      }
+    }
+  }
+
+  const json& required(const json& object, std::string_view key) const {
+    const auto found = object.find(key);
+    if (found == object.end()) fail(fmt::format("missing required key '{}'", key));
+    return *found;
+  }
+
+  int read_int(const json& object, std::string_view key, int min, int max) const {
+    const json& value = required(object, key);
+    if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, value.dump()));
+    // Unsigned JSON integers may exceed int64; clamp them to a value that is out of range anyway.
+    const std::int64_t number =
+        value.is_number_unsigned()
+            ? static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), std::uint64_t{1} << 32U))
+            : value.get<std::int64_t>();
+    if (number < min || number > max) {
+      fail(fmt::format("'{}' = {} is outside the compiled range [{}, {}]", key, number, min, max));
+    }
+    return static_cast<int>(number);
+  }
+
+  double read_finite(const json& value, std::string_view key) const {
+    if (!value.is_number()) fail(fmt::format("'{}' must be a number, got {}", key, value.dump()));
+    const auto number = value.get<double>();
+    if (!std::isfinite(number)) fail(fmt::format("'{}' must be a finite number", key));
+    return number;
+  }
+
+  std::vector<double> read_array(const json& value, std::string_view key, std::size_t expected_size,
+                                 std::string_view size_name) const {
+    if (!value.is_array()) {
+      fail(fmt::format("'{}' must be an array of {} = {} numbers, got {}", key, size_name, expected_size,
+                       value.type_name()));
+    }
+    if (value.size() != expected_size) {
+      fail(fmt::format("'{}' must have {} = {} entries, got {}", key, size_name, expected_size, value.size()));
+    }
+    std::vector<double> numbers;
+    numbers.reserve(expected_size);
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      numbers.push_back(read_finite(value.at(i), fmt::format("{}[{}]", key, i)));
+    }
+    return numbers;
+  }
+
+  OperatorKind read_operator(const json& value) const {
+    if (value == "switch") return OperatorKind::kSwitch;
+    if (value == "backlash") return OperatorKind::kBacklash;
+    fail(fmt::format("'operator' must be \"switch\" or \"backlash\", got {}", value.dump()));
+  }
+
+  // Paper, Section 3.4 step 1: v_m = V_1^d < V_2^d < ... < V_m^d < v_M.
+  void check_descendent_levels(const ExperimentConfig& config) const {
+    const std::vector<double>& levels = config.V_d;
+    if (levels.front() != config.v_min) {
+      fail(fmt::format("'V_d[0]' = {} must equal 'v_min' = {} (the DIS pulses reach down to v_m = V_1^d)",
+                       levels.front(), config.v_min));
+    }
+    for (std::size_t i = 1; i < levels.size(); ++i) {
+      if (!(levels[i] > levels[i - 1])) {
+        fail(fmt::format("'V_d[{}]' = {} must be greater than 'V_d[{}]' = {} (V_d is strictly increasing)", i,
+                         levels[i], i - 1, levels[i - 1]));
+      }
+    }
+    if (!(levels.back() < config.v_max)) {
+      fail(fmt::format("'V_d[{}]' = {} must be less than 'v_max' = {} (the pulses must leave the rest level v_M)",
+                       levels.size() - 1, levels.back(), config.v_max));
+    }
+  }
+
+  // Paper, Section 4.1 step 1: v_M = V_1^a > V_2^a > ... > V_m^a > v_m.
+  void check_ascendent_levels(const ExperimentConfig& config) const {
+    const std::vector<double>& levels = config.V_a;
+    if (levels.front() != config.v_max) {
+      fail(fmt::format("'V_a[0]' = {} must equal 'v_max' = {} (the AIS pulses reach up to v_M = V_1^a)", levels.front(),
+                       config.v_max));
+    }
+    for (std::size_t i = 1; i < levels.size(); ++i) {
+      if (!(levels[i] < levels[i - 1])) {
+        fail(fmt::format("'V_a[{}]' = {} must be less than 'V_a[{}]' = {} (V_a is strictly decreasing)", i, levels[i],
+                         i - 1, levels[i - 1]));
+      }
+    }
+    if (!(levels.back() > config.v_min)) {
+      fail(fmt::format("'V_a[{}]' = {} must be greater than 'v_min' = {} (the pulses must leave the rest level v_m)",
+                       levels.size() - 1, levels.back(), config.v_min));
+    }
+  }
+
+  Truth read_truth(const json& value, const ExperimentConfig& config) const {
+    if (!value.is_object()) fail(fmt::format("'truth' must be a JSON object, got {}", value.type_name()));
+    reject_unknown_keys(value, kTruthKeys, "truth.");
+    const auto n = static_cast<std::size_t>(config.n);
+    const auto m = static_cast<std::size_t>(config.m);
+    Truth truth;
+    if (value.contains("a")) truth.a = read_array(value.at("a"), "truth.a", n, "n");
+    if (value.contains("b")) truth.b = read_array(value.at("b"), "truth.b", n, "n");
+    // Border values are only meaningful at configured abscissas.
+    if (value.contains("F_d")) {
+      if (config.V_d.empty()) fail("'truth.F_d' is given but 'V_d' is absent (F_d holds F^d at the V_d levels)");
+      truth.F_d = read_array(value.at("F_d"), "truth.F_d", m, "m");
+    }
+    if (value.contains("F_a")) {
+      if (config.V_a.empty()) fail("'truth.F_a' is given but 'V_a' is absent (F_a holds F^a at the V_a levels)");
+      truth.F_a = read_array(value.at("F_a"), "truth.F_a", m, "m");
+    }
+    if (value.contains("ybar0_d")) truth.ybar0_d = read_finite(value.at("ybar0_d"), "truth.ybar0_d");
+    if (value.contains("ybar0_a")) truth.ybar0_a = read_finite(value.at("ybar0_a"), "truth.ybar0_a");
+    return truth;
+  }
+
+  std::string_view source_name_;
+};
+
+// Where the parser is, as far as keys go: the open objects and the last key seen. Used to report
+// duplicate keys, and to name the key whose value the parser rejected (e.g. a number overflow).
+struct JsonKeyTracker {
+  struct OpenObject {
+    std::string path;
+    std::set<std::string> keys;
+  };
+  std::vector<OpenObject> objects;
+  std::string last_key_path;
+};
+
+// nlohmann keeps the last of duplicate keys silently; a repeated key is as likely a mistake as a
+// typo, so the parse callback reports it.
+json::parser_callback_t duplicate_key_detector(JsonKeyTracker& tracker, std::string_view source_name) {
+  return [&tracker, source_name](int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        tracker.objects.push_back({tracker.objects.empty() ? std::string() : tracker.last_key_path, {}});
+        break;
+      case json::parse_event_t::object_end:
+        tracker.objects.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        JsonKeyTracker::OpenObject& object = tracker.objects.back();
+        const auto& key = parsed.get_ref<const std::string&>();
+        tracker.last_key_path = object.path.empty() ? key : fmt::format("{}.{}", object.path, key);
+        if (!object.keys.insert(key).second) {
+          throw DataError(source_name, fmt::format("duplicate key '{}'", tracker.last_key_path));
+        }
+        break;
+      }
+      default:
+        break;
+    }
+    return true;
+  };
+}
+
+// nlohmann messages start with "[json.exception.parse_error.101] "; the id means nothing to a user.
+std::string_view without_exception_id(std::string_view message) {
+  if (message.starts_with("[json.exception.")) {
+    if (const std::size_t end = message.find("] "); end != std::string_view::npos) message.remove_prefix(end + 2);
+  }
+  return message;
+}
+
+std::size_t line_of_byte(std::string_view text, std::size_t byte_position) {
+  const std::string_view before = text.substr(0, std::min(byte_position, text.size()));
+  return 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+}
+
+}  // namespace
+
+ExperimentConfig parse_config_json(std::string_view text, std::string_view source_name) {
+  json document;
+  JsonKeyTracker tracker;
+  try {
+    document = json::parse(text, duplicate_key_detector(tracker, source_name));
+  } catch (const json::parse_error& error) {
+    throw DataError(source_name, line_of_byte(text, error.byte),
+                    fmt::format("invalid JSON: {}", without_exception_id(error.what())));
+  } catch (const json::exception& error) {  // e.g. out_of_range for a number like 1e999, which has no position
+    const std::string where =
+        tracker.last_key_path.empty() ? std::string() : fmt::format(" (at key '{}')", tracker.last_key_path);
+    throw DataError(source_name, fmt::format("invalid JSON: {}{}", without_exception_id(error.what()), where));
+  }
+  return ConfigReader(source_name).read(document);
+}
+
+ExperimentConfig read_config_json(const std::filesystem::path& path) {
+  return parse_config_json(read_file_text(path), path.string());
+}
+
+nlohmann::json to_json(const ExperimentConfig& config) {
+  json document = {{"n", config.n},
+                   {"m", config.m},
+                   {"v_min", config.v_min},
+                   {"v_max", config.v_max},
+                   {"operator", to_string(config.op)}};
+  if (!config.V_d.empty()) document["V_d"] = config.V_d;
+  if (!config.V_a.empty()) document["V_a"] = config.V_a;
+  if (config.truth) {
+    const Truth& truth = *config.truth;
+    json truth_document = json::object();
+    if (!truth.a.empty()) truth_document["a"] = truth.a;
+    if (!truth.b.empty()) truth_document["b"] = truth.b;
+    if (!truth.F_d.empty()) truth_document["F_d"] = truth.F_d;
+    if (!truth.F_a.empty()) truth_document["F_a"] = truth.F_a;
+    if (truth.ybar0_d) truth_document["ybar0_d"] = *truth.ybar0_d;
+    if (truth.ybar0_a) truth_document["ybar0_a"] = *truth.ybar0_a;
+    document["truth"] = std::move(truth_document);
+  }
+  return document;
+}
+
+void write_json_file(const std::filesystem::path& path, const nlohmann::json& document) {
+  std::string text;
+  try {
+    text = document.dump(2);                 // nlohmann writes doubles in shortest round-trip form
+  } catch (const json::type_error& error) {  // e.g. invalid UTF-8 in a string
+    throw DataError(path.string(), fmt::format("cannot serialize JSON: {}", without_exception_id(error.what())));
+  }
+  text += '\n';
+  write_file_atomically(path, text);
+}
+
+}  // namespace lashid::sim

@@ -1,0 +1,215 @@
+#include "lashid/operator_fit/operator_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace lashid::sim {
+
+namespace {
+
+double median_of(std::vector<double>& values) {
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  double m = *mid;
+  if (values.size() % 2 == 0) m = 0.5 * (m + *std::max_element(values.begin(), mid));
+  return m;
+}
+
+// Nearest node of an equally spaced grid of `points` nodes over [lo, hi].
+std::size_t nearest_node(double v, double lo, double hi, int points) {
+  const double position = (v - lo) / (hi - lo) * (points - 1);
+  const double clamped = std::clamp(std::round(position), 0.0, static_cast<double>(points - 1));
+  return static_cast<std::size_t>(clamped);
+}
+
+std::vector<std::pair<double, double>> median_table(std::span<const std::pair<double, double>> samples, double lo,
+                                                    double hi, int points) {
+  if (points < 2 || !(lo < hi)) {
+    throw std::invalid_argument(fmt::format("fit_border: need points >= 2 and lo < hi, got {}, [{}, {}]", points,
+                                            lo, hi));
+  }
+  std::vector<std::vector<double>> bins(static_cast<std::size_t>(points));
+  for (const auto& [v, u] : samples) bins[nearest_node(v, lo, hi, points)].push_back(u);
+  std::vector<std::pair<double, double>> table;
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    if (bins[i].empty()) continue;
+    table.emplace_back(lo + (hi - lo) * static_cast<double>(i) / (points - 1), median_of(bins[i]));
+  }
+  if (table.size() < 2) throw std::invalid_argument("fit_border: fewer than 2 nodes have samples");
+  return table;
+}
+
+void require_training(const std::vector<DamperRecord>& train) {
+  if (train.empty()) throw std::invalid_argument("no training records");
+  for (const auto& r : train) {
+    if (r.v.size() < 2) throw std::invalid_argument(fmt::format("{}: fewer than 2 samples", r.source));
+  }
+}
+
+double mean_fit(const HysteresisOperator& op, const std::vector<DamperRecord>& train) {
+  double sum = 0;
+  for (const auto& r : train) sum += fit_percent(r.u, simulate_operator(op, r.v, r.u.front()));
+  return sum / static_cast<double>(train.size());
+}
+
+// Relative displacement e(t) = v(t) - z(t) of a play [-r, r] started mid-play (z = v(0)).
+std::vector<double> play_offsets(std::span<const double> v, double r) {
+  std::vector<double> e(v.size());
+  double z = v.front();
+  for (std::size_t t = 0; t < v.size(); ++t) {
+    z = std::clamp(z, v[t] - r, v[t] + r);
+    e[t] = v[t] - z;
+  }
+  return e;
+}
+
+}  // namespace
+
+std::vector<int> motion_direction(std::span<const double> v, double deadband) {
+  std::vector<int> direction(v.size(), 0);
+  int current = 0;
+  double high = v.empty() ? 0.0 : v.front(), low = high;
+  std::size_t first_decided = v.size();
+  for (std::size_t t = 0; t < v.size(); ++t) {
+    high = std::max(high, v[t]);
+    low = std::min(low, v[t]);
+    if (current >= 0 && v[t] < high - deadband) {  // falling now
+      current = -1;
+      low = v[t];
+    } else if (current <= 0 && v[t] > low + deadband) {
+      current = +1;
+      high = v[t];
+    }
+    if (current != 0 && first_decided == v.size()) first_decided = t;
+    direction[t] = current;
+  }
+  const int first = first_decided < v.size() ? direction[first_decided] : 1;
+  for (std::size_t t = 0; t < std::min(first_decided, v.size()); ++t) direction[t] = first;
+  return direction;
+}
+
+std::vector<std::size_t> reversal_indices(std::span<const double> v, double deadband) {
+  const std::vector<int> d = motion_direction(v, deadband);
+  std::vector<std::size_t> out;
+  std::size_t extreme = 0;
+  for (std::size_t t = 1; t < v.size(); ++t) {
+    if (d[t] != d[t - 1]) out.push_back(extreme);
+    // The extreme of the current motion: the last max while rising, the last min while falling.
+    if (d[t] != d[t - 1] || (d[t] > 0 ? v[t] >= v[extreme] : v[t] <= v[extreme])) extreme = t;
+  }
+  return out;
+}
+
+Border fit_border(std::span<const std::pair<double, double>> samples, double lo, double hi, int points) {
+  return Border::from_table(median_table(samples, lo, hi, points));
+}
+
+std::vector<double> simulate_operator(const HysteresisOperator& op, std::span<const double> v, double u0) {
+  std::vector<double> u(v.size());
+  if (v.empty()) return u;
+  auto copy = op.clone();
+  copy->reset(v[0], u0);
+  u[0] = u0;
+  for (std::size_t t = 1; t < v.size(); ++t) u[t] = copy->step(v[t]);
+  return u;
+}
+
+double fit_percent(std::span<const double> u, std::span<const double> u_sim) {
+  if (u.size() != u_sim.size() || u.empty()) throw std::invalid_argument("fit_percent: sizes differ or are zero");
+  double mean = 0;
+  for (double x : u) mean += x;
+  mean /= static_cast<double>(u.size());
+  double err = 0, var = 0;
+  for (std::size_t t = 0; t < u.size(); ++t) {
+    err += (u[t] - u_sim[t]) * (u[t] - u_sim[t]);
+    var += (u[t] - mean) * (u[t] - mean);
+  }
+  return 100.0 * (1.0 - std::sqrt(err / var));
+}
+
+std::unique_ptr<HysteresisOperator> NominalFit::make() const {
+  if (chosen == "switch") return std::make_unique<SwitchOperator>(ascending, descending);
+  return std::make_unique<BacklashOperator>(ascending, descending);
+}
+
+NominalFit fit_nominal(const std::vector<DamperRecord>& train, const OperatorFitOptions& options) {
+  require_training(train);
+  std::vector<std::pair<double, double>> rising, falling;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& r : train) {
+    const std::vector<int> d = motion_direction(r.v, options.deadband);
+    for (std::size_t t = 0; t < r.v.size(); ++t) (d[t] > 0 ? rising : falling).emplace_back(r.v[t], r.u[t]);
+    lo = std::min(lo, *std::min_element(r.v.begin(), r.v.end()));
+    hi = std::max(hi, *std::max_element(r.v.begin(), r.v.end()));
+  }
+  NominalFit fit{fit_border(rising, lo, hi, options.points), fit_border(falling, lo, hi, options.points), 0, 0, ""};
+  fit.fit_train_switch = mean_fit(SwitchOperator(fit.ascending, fit.descending), train);
+  fit.fit_train_backlash = mean_fit(BacklashOperator(fit.ascending, fit.descending), train);
+  fit.chosen = fit.fit_train_switch >= fit.fit_train_backlash ? "switch" : "backlash";
+  return fit;
+}
+
+std::unique_ptr<FrictionGapOperator> ExtendedFit::make() const {
+  return std::make_unique<FrictionGapOperator>(Border::from_table(curve), stiffness);
+}
+
+ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorFitOptions& options) {
+  require_training(train);
+  std::vector<double> widths = options.half_widths;
+  if (widths.empty()) {
+    for (int i = 1; i <= 25; ++i) widths.push_back(0.02 * i);
+  }
+  ExtendedFit best;
+  double best_sse = std::numeric_limits<double>::infinity();
+  std::size_t total = 0;
+  for (const auto& r : train) total += r.v.size();
+  for (const double width : widths) {
+    if (!(width > 0)) throw std::invalid_argument(fmt::format("play half-width must be > 0, got {}", width));
+    std::vector<std::vector<double>> offsets;
+    for (const auto& r : train) offsets.push_back(play_offsets(r.v, width));
+    double k = 0;
+    std::vector<std::pair<double, double>> table;
+    std::vector<std::pair<double, double>> samples;
+    samples.reserve(total);
+    double sse = 0;
+    double k_table = 0;  // the k that `table` and `sse` were computed with
+    for (int round = 0; round < 3; ++round) {
+      k_table = k;
+      samples.clear();
+      for (std::size_t f = 0; f < train.size(); ++f) {
+        for (std::size_t t = 0; t < train[f].v.size(); ++t) {
+          samples.emplace_back(offsets[f][t], train[f].u[t] - k * train[f].v[t]);
+        }
+      }
+      table = median_table(samples, -width, width, options.points);
+      const Border curve = Border::from_table(table);
+      double num = 0, den = 0;
+      sse = 0;
+      for (std::size_t f = 0; f < train.size(); ++f) {
+        for (std::size_t t = 0; t < train[f].v.size(); ++t) {
+          const double rest = train[f].u[t] - curve(offsets[f][t]);
+          num += rest * train[f].v[t];
+          den += train[f].v[t] * train[f].v[t];
+          sse += (rest - k * train[f].v[t]) * (rest - k * train[f].v[t]);
+        }
+      }
+      if (!options.parallel_stiffness || den == 0) break;
+      k = num / den;
+    }
+    best.train_error_by_width.emplace_back(width, std::sqrt(sse / static_cast<double>(total)));
+    if (sse < best_sse) {
+      best_sse = sse;
+      best.half_width = width;
+      best.curve = table;
+      best.stiffness = k_table;
+    }
+  }
+  best.fit_train = mean_fit(*best.make(), train);
+  return best;
+}
+
+}  // namespace lashid::sim
