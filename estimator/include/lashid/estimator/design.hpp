@@ -1,6 +1,6 @@
 // Experiment design of the DIS (Section 3) and AIS (Section 4) of
 //   F. Giri, Y. Rochdi, A. Brouri, F.Z. Chaoui, "Identification of block-oriented systems in the presence of
-//   nonparametric input nonlinearities of switch and backlash types" (the paper in shared/seed/paper.txt).
+//   nonparametric input nonlinearities of switch and backlash types", Automatica.
 //
 // DIS: between pulses the input is held at v_M and the pulses go down to V_j^d, v_m = V_1^d < ... < V_m^d < v_M.
 // AIS: between pulses the input is held at v_m and the pulses go up to V_j^a, v_M = V_1^a > ... > V_m^a > v_m.

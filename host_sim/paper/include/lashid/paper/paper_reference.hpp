@@ -1,4 +1,4 @@
-// Numbers printed in the paper (shared/seed/paper.txt), transcribed as data so that the reproduction command and
+// Numbers printed in the paper (Giri et al., Automatica; see estimator/design.hpp for the full reference), transcribed as data so that the reproduction command and
 // the tests compare against the same figures. Where the paper is inconsistent with itself, the comment says so;
 // docs/paper-notes.md has the full list and the evidence.
 #pragma once
