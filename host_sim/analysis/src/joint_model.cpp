@@ -3,16 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
+#include <string>
 #include <utility>
+
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
 #include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
+#include "model_operator.hpp"
 
 namespace lashid::sim {
+
+using detail::make_model_operator;
+using detail::tau;
 
 namespace {
 
@@ -63,26 +70,6 @@ void add_hat(const BorderLayout& border, double w, Eigen::Ref<Eigen::RowVectorXd
   if (border.param[k + 1] >= 0) phi(border.param[k + 1]) += s;
 }
 
-Border table_border(const std::vector<double>& x, const std::vector<double>& u) {
-  std::vector<std::pair<double, double>> points;
-  for (std::size_t i = 0; i < x.size(); ++i) points.emplace_back(x[i], u[i]);
-  return Border::from_table(std::move(points));
-}
-
-std::unique_ptr<HysteresisOperator> make_model_operator(const JointModel& model, double w0) {
-  Border asc = table_border(model.ascending_v, model.ascending_u);
-  Border desc = table_border(model.descending_v, model.descending_u);
-  const double u0 = desc(w0);
-  std::unique_ptr<HysteresisOperator> op;
-  if (model.structure.op == OperatorKind::kSwitch) {
-    op = std::make_unique<SwitchOperator>(std::move(asc), std::move(desc));
-  } else {
-    op = std::make_unique<BacklashOperator>(std::move(asc), std::move(desc));
-  }
-  op->reset(w0, u0);
-  return op;
-}
-
 // phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
 // The switch's regime depends on the direction of w only; the backlash's also on the borders, taken from
 // `current` (the previous fit) when given, otherwise the switch's regimes are used as the first guess.
@@ -111,8 +98,109 @@ Basis operator_basis(const Layout& layout, const std::vector<double>& w, Operato
   return phi;
 }
 
-double tau(std::size_t t, std::size_t samples) {
-  return samples > 1 ? static_cast<double>(t) / static_cast<double>(samples - 1) : 0.0;
+// The stacked regression (3.19) over the identification rows t >= n: columns a_1..a_n, the n x P products
+// b_i c_p, the offset kappa0 and, with drift, kappa1. Z holds the instruments when an IV fit is asked for.
+struct Regression {
+  std::vector<std::size_t> rows;
+  Eigen::MatrixXd X, Z;
+  Eigen::VectorXd Y;
+  int cols = 0;
+};
+
+Regression build_regression(int n, int P, const FlatRecording& data, const ModelStructure& structure,
+                            const Basis& phi, const std::vector<double>* instruments_y) {
+  Regression g;
+  const std::size_t T = data.size();
+  g.cols = n + n * P + 1 + (structure.drift ? 1 : 0);
+  for (std::size_t t = static_cast<std::size_t>(n); t < T; ++t) {
+    if (data.is_identification(t)) g.rows.push_back(t);
+  }
+  if (g.rows.size() <= static_cast<std::size_t>(g.cols)) return g;
+  const auto R = static_cast<Eigen::Index>(g.rows.size());
+  g.X.resize(R, g.cols);
+  g.Y.resize(R);
+  if (instruments_y != nullptr) g.Z.resize(R, g.cols);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const std::size_t t = g.rows[static_cast<std::size_t>(r)];
+    g.Y(r) = data.y[t];
+    for (int i = 1; i <= n; ++i) {
+      g.X(r, i - 1) = -data.y[t - static_cast<std::size_t>(i)];
+      g.X.block(r, n + (i - 1) * P, 1, P) = phi.row(static_cast<Eigen::Index>(t) - i);
+    }
+    g.X(r, n + n * P) = 1.0;
+    if (structure.drift) g.X(r, n + n * P + 1) = tau(t, T);
+    if (instruments_y != nullptr) {
+      g.Z.row(r) = g.X.row(r);
+      for (int i = 1; i <= n; ++i) g.Z(r, i - 1) = -(*instruments_y)[t - static_cast<std::size_t>(i)];
+    }
+  }
+  return g;
+}
+
+// Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
+// that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
+// interpolation afterwards (their value does not affect this data, only the simulation elsewhere).
+struct ExcitedColumns {
+  std::vector<bool> excited;        ///< per border parameter p
+  std::vector<Eigen::Index> keep;   ///< the regression columns kept
+};
+
+ExcitedColumns excited_columns(const Eigen::MatrixXd& X, int n, int P, int cols) {
+  ExcitedColumns e;
+  e.excited.assign(static_cast<std::size_t>(P), false);
+  const auto is_basis = [&](Eigen::Index k) { return k >= n && k < n + n * P; };
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    if (is_basis(k) && X.col(k).squaredNorm() > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
+  }
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    if (!is_basis(k) || e.excited[static_cast<std::size_t>((k - n) % P)]) e.keep.push_back(k);
+  }
+  return e;
+}
+
+// Least squares (column-pivoted QR), or instrumental variables when Z is given. Empty on failure, with `failure`.
+std::optional<Eigen::VectorXd> solve_regression(const Eigen::MatrixXd& X, const Eigen::VectorXd& Y,
+                                                const Eigen::MatrixXd* Z, std::string& failure) {
+  const auto kept = static_cast<int>(X.cols());
+  if (Z == nullptr) {
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+    if (qr.rank() < kept) {
+      failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
+                            "the experiments do not excite every border point",
+                            qr.rank(), kept);
+      return std::nullopt;
+    }
+    return Eigen::VectorXd(qr.solve(Y));
+  }
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Z->transpose() * X);
+  if (!lu.isInvertible()) {
+    failure = "the instrumental-variable system is singular";
+    return std::nullopt;
+  }
+  return Eigen::VectorXd(lu.solve(Z->transpose() * Y));
+}
+
+// The border values at the layout's abscissas from the factor c; unexcited points by linear interpolation between
+// the nearest excited neighbours on the same border.
+void border_values(const BorderLayout& border, const Eigen::VectorXd& c, const std::vector<bool>& excited,
+                   std::vector<double>& x, std::vector<double>& u) {
+  x = border.x;
+  u.clear();
+  std::vector<bool> known;
+  for (int p : border.param) {
+    u.push_back(p < 0 ? 0.0 : c(p));
+    known.push_back(p < 0 || excited[static_cast<std::size_t>(p)]);
+  }
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    if (known[i]) continue;
+    std::size_t lo = i, hi = i;
+    while (lo > 0 && !known[lo]) --lo;
+    while (hi + 1 < u.size() && !known[hi]) ++hi;
+    if (!known[lo]) lo = hi;
+    if (!known[hi]) hi = lo;
+    const double f = hi == lo ? 0.0 : (x[i] - x[lo]) / (x[hi] - x[lo]);
+    u[i] = u[lo] + f * (u[hi] - u[lo]);
+  }
 }
 
 // One fit for a fixed basis (regime sequence). `instruments_y`, when given, replaces y in the instruments.
@@ -121,89 +209,35 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
                           const std::vector<double>* instruments_y) {
   const int n = config.n;
   const int P = layout.parameters;
-  const std::size_t T = data.size();
-  const int cols = n + n * P + 1 + (structure.drift ? 1 : 0);
-  std::vector<std::size_t> rows;
-  for (std::size_t t = static_cast<std::size_t>(n); t < T; ++t) {
-    if (data.is_identification(t)) rows.push_back(t);
-  }
+  Regression g = build_regression(n, P, data, structure, phi, instruments_y);
+  const int cols = g.cols;
   JointModel model;
   model.structure = structure;
   model.n = n;
   model.v_min = config.v_min;
   model.v_max = config.v_max;
-  model.rows = rows.size();
+  model.rows = g.rows.size();
   model.parameters = cols;
-  if (rows.size() <= static_cast<std::size_t>(cols)) {
-    model.failure = fmt::format("{} identification rows for {} parameters", rows.size(), cols);
+  if (g.rows.size() <= static_cast<std::size_t>(cols)) {
+    model.failure = fmt::format("{} identification rows for {} parameters", g.rows.size(), cols);
     return model;
   }
-  const auto R = static_cast<Eigen::Index>(rows.size());
-  Eigen::MatrixXd X(R, cols);
-  Eigen::VectorXd Y(R);
-  Eigen::MatrixXd Z;
-  if (instruments_y != nullptr) Z.resize(R, cols);
-  for (Eigen::Index r = 0; r < R; ++r) {
-    const std::size_t t = rows[static_cast<std::size_t>(r)];
-    Y(r) = data.y[t];
-    for (int i = 1; i <= n; ++i) {
-      X(r, i - 1) = -data.y[t - static_cast<std::size_t>(i)];
-      X.block(r, n + (i - 1) * P, 1, P) = phi.row(static_cast<Eigen::Index>(t) - i);
-    }
-    X(r, n + n * P) = 1.0;
-    if (structure.drift) X(r, n + n * P + 1) = tau(t, T);
-    if (instruments_y != nullptr) {
-      Z.row(r) = X.row(r);
-      for (int i = 1; i <= n; ++i) Z(r, i - 1) = -(*instruments_y)[t - static_cast<std::size_t>(i)];
-    }
+  const ExcitedColumns columns = excited_columns(g.X, n, P, cols);
+  if (static_cast<Eigen::Index>(columns.keep.size()) < cols) {
+    g.X = g.X(Eigen::all, columns.keep).eval();
+    if (instruments_y != nullptr) g.Z = g.Z(Eigen::all, columns.keep).eval();
+    model.parameters = static_cast<int>(columns.keep.size());
   }
-  // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
-  // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
-  // interpolation below (their value does not affect this data, only the simulation elsewhere).
-  std::vector<bool> excited(static_cast<std::size_t>(P), false);
-  std::vector<Eigen::Index> keep;
-  for (Eigen::Index k = 0; k < cols; ++k) {
-    const bool basis = k >= n && k < n + n * P;
-    if (basis) {
-      const auto p = static_cast<std::size_t>((k - n) % P);
-      if (X.col(k).squaredNorm() > 0) excited[p] = true;
-    }
-  }
-  for (Eigen::Index k = 0; k < cols; ++k) {
-    const bool basis = k >= n && k < n + n * P;
-    if (!basis || excited[static_cast<std::size_t>((k - n) % P)]) keep.push_back(k);
-  }
-  if (static_cast<Eigen::Index>(keep.size()) < cols) {
-    X = X(Eigen::all, keep).eval();
-    if (instruments_y != nullptr) Z = Z(Eigen::all, keep).eval();
-    model.parameters = static_cast<int>(keep.size());
-  }
-  const auto kept = static_cast<int>(keep.size());
-  Eigen::VectorXd reduced;
-  if (instruments_y == nullptr) {
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
-    if (qr.rank() < kept) {
-      model.failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
-                                  "the experiments do not excite every border point",
-                                  qr.rank(), kept);
-      return model;
-    }
-    reduced = qr.solve(Y);
-  } else {
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(Z.transpose() * X);
-    if (!lu.isInvertible()) {
-      model.failure = "the instrumental-variable system is singular";
-      return model;
-    }
-    reduced = lu.solve(Z.transpose() * Y);
-  }
-  const Eigen::VectorXd residuals = Y - X * reduced;
+  const std::optional<Eigen::VectorXd> reduced =
+      solve_regression(g.X, g.Y, instruments_y != nullptr ? &g.Z : nullptr, model.failure);
+  if (!reduced) return model;
+  const Eigen::VectorXd residuals = g.Y - g.X * *reduced;
   model.rss = residuals.squaredNorm();
   model.residuals.assign(residuals.data(), residuals.data() + residuals.size());
-  model.residual_t = rows;
-  model.residual_variance = model.rss / static_cast<double>(R - kept);
+  model.residual_t = g.rows;
+  model.residual_variance = model.rss / static_cast<double>(g.Y.size() - g.X.cols());
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
-  for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = reduced(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < columns.keep.size(); ++i) theta(columns.keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
   model.a.assign(theta.data(), theta.data() + n);
   Eigen::MatrixXd products(n, P);
   for (int i = 0; i < n; ++i) products.row(i) = theta.segment(n + i * P, P).transpose();
@@ -216,7 +250,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   Eigen::VectorXd c = svd.matrixV().col(0);
   Eigen::VectorXd b = s(0) * svd.matrixU().col(0);
   model.rank_one_ratio = s.size() > 1 && s(0) > 0 ? s(1) / s(0) : 0.0;
-  if (!excited[0] || !(std::abs(c(0)) > 1e-9 * c.norm())) {
+  if (!columns.excited[0] || !(std::abs(c(0)) > 1e-9 * c.norm())) {
     model.failure = "degenerate borders: the estimated u_m equals u_M";
     return model;
   }
@@ -224,28 +258,8 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   c *= scale;
   b /= scale;
   model.b.assign(b.data(), b.data() + n);
-  const auto values = [&](const BorderLayout& border, std::vector<double>& x, std::vector<double>& u) {
-    x = border.x;
-    u.clear();
-    std::vector<bool> known;
-    for (int p : border.param) {
-      u.push_back(p < 0 ? 0.0 : c(p));
-      known.push_back(p < 0 || excited[static_cast<std::size_t>(p)]);
-    }
-    // Unexcited points: linear interpolation between the nearest excited neighbours on the same border.
-    for (std::size_t i = 0; i < u.size(); ++i) {
-      if (known[i]) continue;
-      std::size_t lo = i, hi = i;
-      while (lo > 0 && !known[lo]) --lo;
-      while (hi + 1 < u.size() && !known[hi]) ++hi;
-      if (!known[lo]) lo = hi;
-      if (!known[hi]) hi = lo;
-      const double f = hi == lo ? 0.0 : (x[i] - x[lo]) / (x[hi] - x[lo]);
-      u[i] = u[lo] + f * (u[hi] - u[lo]);
-    }
-  };
-  values(layout.descending, model.descending_v, model.descending_u);
-  values(layout.ascending, model.ascending_v, model.ascending_u);
+  border_values(layout.descending, c, columns.excited, model.descending_v, model.descending_u);
+  border_values(layout.ascending, c, columns.excited, model.ascending_v, model.ascending_u);
   model.ok = true;
   return model;
 }
@@ -342,57 +356,6 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     model = std::move(iv);
   }
   return model;
-}
-
-std::vector<double> operator_output(const JointModel& model, const FlatRecording& data) {
-  const std::vector<double> w = effective_input(data.v, model.structure);
-  std::vector<double> u(w.size());
-  if (w.empty()) return u;
-  auto op = make_model_operator(model, w[0]);
-  for (std::size_t t = 0; t < w.size(); ++t) u[t] = op->step(w[t]);
-  return u;
-}
-
-namespace {
-
-// y(t) of the model's equation given the past outputs `past(t - i)` and the operator outputs u.
-template <class Past>
-double model_equation(const JointModel& model, const FlatRecording& data, const std::vector<double>& u, std::size_t t,
-                      Past past) {
-  double y = model.kappa0 + model.kappa1 * tau(t, data.size());
-  for (int i = 1; i <= model.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const double u_lag = t >= k ? u[t - k] : u[0];
-    y += -model.a[k - 1] * past(t, k) + model.b[k - 1] * u_lag;
-  }
-  return y;
-}
-
-}  // namespace
-
-std::vector<double> simulate_segment(const JointModel& model, const FlatRecording& data, std::size_t begin,
-                                     std::size_t end) {
-  if (begin > end || end > data.size()) throw std::out_of_range("simulate_segment: bad sample range");
-  const std::vector<double> u = operator_output(model, data);
-  std::vector<double> ys(end - begin);
-  const auto past = [&](std::size_t t, std::size_t k) {
-    if (t >= k && t - k >= begin) return ys[t - k - begin];
-    return t >= k ? data.y[t - k] : data.y[0];
-  };
-  for (std::size_t t = begin; t < end; ++t) ys[t - begin] = model_equation(model, data, u, t, past);
-  return ys;
-}
-
-std::vector<double> prediction_errors(const JointModel& model, const FlatRecording& data, std::size_t begin,
-                                      std::size_t end) {
-  if (begin > end || end > data.size()) throw std::out_of_range("prediction_errors: bad sample range");
-  const std::vector<double> u = operator_output(model, data);
-  std::vector<double> e;
-  const auto past = [&](std::size_t t, std::size_t k) { return t >= k ? data.y[t - k] : data.y[0]; };
-  for (std::size_t t = std::max(begin, static_cast<std::size_t>(model.n)); t < end; ++t) {
-    e.push_back(data.y[t] - model_equation(model, data, u, t, past));
-  }
-  return e;
 }
 
 }  // namespace lashid::sim

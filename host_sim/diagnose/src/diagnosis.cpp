@@ -120,10 +120,8 @@ CandidateCause dead_time_candidate(const ExperimentConfig& config, const FlatRec
   return c;
 }
 
-}  // namespace
-
-Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, std::string_view data_name,
-                   const DiagnosisOptions& options) {
+// The recording must hold all five phases, match the config, and give the residual tests enough val samples.
+void check_diagnosable(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
   for (Phase p : kAllPhases) {
     if (!recording.has(p)) {
       throw DataError(data_name, fmt::format("diagnose needs all five phases; '{}' is missing", to_string(p)));
@@ -135,6 +133,105 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
     throw DataError(data_name, fmt::format("phase 'val' has {} samples; the residual tests need at least {}",
                                            recording.phase(Phase::kVal).size(), min_val));
   }
+}
+
+// The model extended by each cause, fitted on the identification phases (input lag and dead time by their own
+// searches; drift, instrumental variables and the other operator type by one fit each).
+std::vector<CandidateCause> fit_candidates(const ExperimentConfig& config, const FlatRecording& data,
+                                           const JointModel& nominal, const DiagnosisOptions& options) {
+  std::vector<CandidateCause> candidates;
+  candidates.push_back(input_lag_candidate(config, data, nominal, options));
+  candidates.push_back(dead_time_candidate(config, data, nominal, options));
+  ModelStructure nominal_structure;
+  nominal_structure.op = config.op;
+  {
+    CandidateCause c;
+    c.cause = Cause::kSensorDrift;
+    ModelStructure s = nominal_structure;
+    s.drift = true;
+    c.model = fit_joint_model(config, data, s);
+    c.parameters.drift_total = c.model.drift_total();
+    candidates.push_back(std::move(c));
+  }
+  {
+    CandidateCause c;
+    c.cause = Cause::kColoredNoise;
+    ModelStructure s = nominal_structure;
+    s.instrumental = true;
+    c.model = fit_joint_model(config, data, s);
+    c.parameters.instrumental_variables = true;
+    candidates.push_back(std::move(c));
+  }
+  {
+    CandidateCause c;
+    c.cause = Cause::kOperatorType;
+    ModelStructure s = nominal_structure;
+    s.op = config.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+    c.model = fit_joint_model(config, data, s);
+    c.parameters.op = s.op;
+    candidates.push_back(std::move(c));
+  }
+  return candidates;
+}
+
+// Evidence per candidate: val fit, residual analysis, likelihood ratio against the nominal model, and the statistic
+// the decision reads (the val error ratio for the operator type, which the identification phases cannot judge).
+void score_candidates(Diagnosis& d, const FlatRecording& data, std::span<const double> measured,
+                      const DiagnosisOptions& options) {
+  for (CandidateCause& c : d.candidates) {
+    if (!c.model.ok) continue;
+    c.fit_val = val_fit(c.model, data, d.val_begin, d.val_end);
+    c.identification = residuals(c.model, data, false);
+    c.likelihood_ratio = likelihood_ratio(d.nominal, c.model);
+    if (c.cause == Cause::kOperatorType) {
+      // Same fit on the identification phases (the experiments make F static); only val can tell.
+      std::vector<double> sim = simulate_segment(c.model, data, d.val_begin, d.val_end);
+      const double nominal_sse = sse(d.val_nominal, measured);
+      const double ratio = std::isfinite(nominal_sse) ? sse(sim, measured) / nominal_sse : 0.0;
+      c.statistic = ratio;
+      c.p_value = ratio < options.operator_sse_ratio ? 0.0 : 1.0;
+    } else if (c.cause != Cause::kColoredNoise) {
+      c.statistic = likelihood_ratio(d.nominal, c.model);
+      c.p_value = stats::chi2_sf(std::max(c.statistic, 0.0), 1.0);
+    }
+  }
+}
+
+// Decision: the strongest structural extension that is significant and leaves white residuals; else a flipped
+// operator that halves the val error; else coloured noise if the residuals are not white; else none (nullptr).
+const CandidateCause* decide(const Diagnosis& d, const DiagnosisOptions& options) {
+  const CandidateCause* chosen = nullptr;
+  // The operator type competes here too: the experiments' pulses usually make F static, but not always (e.g.
+  // closely spaced pulses), and then the identification phases themselves tell switch from backlash.
+  for (const CandidateCause& c : d.candidates) {
+    if (c.cause == Cause::kColoredNoise || !c.model.ok) continue;
+    // The extension must explain the residual correlation: white residuals, or a Ljung-Box statistic cut to a
+    // fraction of the nominal one (a coloured disturbance leaves most of it whatever the structure).
+    const bool explains = c.identification.whiteness.p_value >= options.white_p ||
+                          c.identification.whiteness.statistic < options.whiteness_ratio * d.identification.whiteness.statistic;
+    if (stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p || !explains) continue;
+    if (chosen == nullptr || c.likelihood_ratio > chosen->likelihood_ratio) chosen = &c;
+  }
+  const auto find = [&](Cause cause) -> const CandidateCause& {
+    return *std::find_if(d.candidates.begin(), d.candidates.end(), [&](const auto& c) { return c.cause == cause; });
+  };
+  // A wrong operator type leaves the identification residuals white (the experiments make F static).
+  if (chosen == nullptr && d.identification.whiteness.p_value >= options.white_p &&
+      find(Cause::kOperatorType).model.ok && find(Cause::kOperatorType).p_value == 0.0) {
+    chosen = &find(Cause::kOperatorType);
+  }
+  if (chosen == nullptr && d.identification.whiteness.p_value < options.white_p &&
+      find(Cause::kColoredNoise).model.ok) {
+    chosen = &find(Cause::kColoredNoise);
+  }
+  return chosen;
+}
+
+}  // namespace
+
+Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, std::string_view data_name,
+                   const DiagnosisOptions& options) {
+  check_diagnosable(config, recording, data_name);
   const FlatRecording data = flatten(recording);
   Diagnosis d;
   for (std::size_t t = 0; t < data.size(); ++t) {
@@ -164,80 +261,10 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
   d.fit_nominal = val_fit(d.nominal, data, d.val_begin, d.val_end, &d.val_nominal);
   const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
 
-  // Candidates. Structural ones are judged by the likelihood ratio on the identification phases only.
-  d.candidates.push_back(input_lag_candidate(config, data, d.nominal, options));
-  d.candidates.push_back(dead_time_candidate(config, data, d.nominal, options));
-  {
-    CandidateCause c;
-    c.cause = Cause::kSensorDrift;
-    ModelStructure s = nominal_structure;
-    s.drift = true;
-    c.model = fit_joint_model(config, data, s);
-    c.parameters.drift_total = c.model.drift_total();
-    d.candidates.push_back(std::move(c));
-  }
-  {
-    CandidateCause c;
-    c.cause = Cause::kColoredNoise;
-    ModelStructure s = nominal_structure;
-    s.instrumental = true;
-    c.model = fit_joint_model(config, data, s);
-    c.parameters.instrumental_variables = true;
-    d.candidates.push_back(std::move(c));
-  }
-  {
-    CandidateCause c;
-    c.cause = Cause::kOperatorType;
-    ModelStructure s = nominal_structure;
-    s.op = config.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
-    c.model = fit_joint_model(config, data, s);
-    c.parameters.op = s.op;
-    d.candidates.push_back(std::move(c));
-  }
-  for (CandidateCause& c : d.candidates) {
-    if (!c.model.ok) continue;
-    c.fit_val = val_fit(c.model, data, d.val_begin, d.val_end);
-    c.identification = residuals(c.model, data, false);
-    c.likelihood_ratio = likelihood_ratio(d.nominal, c.model);
-    if (c.cause == Cause::kOperatorType) {
-      // Same fit on the identification phases (the experiments make F static); only val can tell.
-      std::vector<double> sim = simulate_segment(c.model, data, d.val_begin, d.val_end);
-      const double nominal_sse = sse(d.val_nominal, measured);
-      const double ratio = std::isfinite(nominal_sse) ? sse(sim, measured) / nominal_sse : 0.0;
-      c.statistic = ratio;
-      c.p_value = ratio < options.operator_sse_ratio ? 0.0 : 1.0;
-    } else if (c.cause != Cause::kColoredNoise) {
-      c.statistic = likelihood_ratio(d.nominal, c.model);
-      c.p_value = stats::chi2_sf(std::max(c.statistic, 0.0), 1.0);
-    }
-  }
-
-  // Decision: the strongest structural extension that is significant and leaves white residuals; else a
-  // flipped operator that halves the val error; else coloured noise if the residuals are not white; else none.
-  const CandidateCause* chosen = nullptr;
-  // The operator type competes here too: the experiments' pulses usually make F static, but not always (e.g.
-  // closely spaced pulses), and then the identification phases themselves tell switch from backlash.
-  for (const CandidateCause& c : d.candidates) {
-    if (c.cause == Cause::kColoredNoise || !c.model.ok) continue;
-    // The extension must explain the residual correlation: white residuals, or a Ljung-Box statistic cut to a
-    // fraction of the nominal one (a coloured disturbance leaves most of it whatever the structure).
-    const bool explains = c.identification.whiteness.p_value >= options.white_p ||
-                          c.identification.whiteness.statistic < options.whiteness_ratio * d.identification.whiteness.statistic;
-    if (stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p || !explains) continue;
-    if (chosen == nullptr || c.likelihood_ratio > chosen->likelihood_ratio) chosen = &c;
-  }
-  const auto find = [&](Cause cause) -> const CandidateCause& {
-    return *std::find_if(d.candidates.begin(), d.candidates.end(), [&](const auto& c) { return c.cause == cause; });
-  };
-  // A wrong operator type leaves the identification residuals white (the experiments make F static).
-  if (chosen == nullptr && d.identification.whiteness.p_value >= options.white_p &&
-      find(Cause::kOperatorType).model.ok && find(Cause::kOperatorType).p_value == 0.0) {
-    chosen = &find(Cause::kOperatorType);
-  }
-  if (chosen == nullptr && d.identification.whiteness.p_value < options.white_p &&
-      find(Cause::kColoredNoise).model.ok) {
-    chosen = &find(Cause::kColoredNoise);
-  }
+  // Structural candidates are judged by the likelihood ratio on the identification phases only.
+  d.candidates = fit_candidates(config, data, d.nominal, options);
+  score_candidates(d, data, measured, options);
+  const CandidateCause* chosen = decide(d, options);
   if (chosen == nullptr) {
     d.cause = Cause::kNone;
     d.extended = d.nominal;

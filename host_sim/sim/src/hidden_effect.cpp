@@ -8,23 +8,11 @@
 
 #include "lashid/plant/operators.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "uniform_draw.hpp"
 
 namespace lashid::sim {
 
 namespace {
-
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : rng_(seed) {}
-  // Uniform in [lo, hi) from the raw 53-bit draw (std::uniform_real_distribution is implementation-defined).
-  double uniform(double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(rng_() >> 11) * 0x1.0p-53); }
-  int integer(int lo, int hi) { return lo + static_cast<int>(rng_() % static_cast<std::uint64_t>(hi - lo + 1)); }
-  bool coin(double p) { return uniform(0.0, 1.0) < p; }
-  std::uint64_t raw() { return rng_(); }
-
- private:
-  std::mt19937_64 rng_;
-};
 
 // A(q^-1) from its poles: real poles in [0.3, 0.85], complex pairs with radius in [0.5, 0.85].
 std::vector<double> stable_denominator(int n, Draw& draw) {
@@ -122,6 +110,75 @@ Recording map_outputs(const Recording& rec, F f) {
   return out;
 }
 
+// The sizes of every effect, drawn for every case (so a case's plant does not depend on its cause's draw order);
+// only the hidden one is applied.
+struct EffectSizes {
+  double lambda = 0;
+  int delay = 0;
+  double drift_fraction = 0;  ///< of the output's standard deviation, signed
+  double snr_db = 0;
+};
+
+EffectSizes draw_effect_sizes(Draw& draw) {
+  EffectSizes e;
+  e.lambda = draw.uniform(0.15, 0.5);
+  e.delay = draw.integer(1, 3);
+  e.drift_fraction = draw.uniform(0.3, 0.6) * (draw.coin(0.5) ? 1.0 : -1.0);
+  e.snr_db = draw.uniform(20.0, 30.0);
+  return e;
+}
+
+// Design: V_d and V_a share their interior abscissas, so both borders are known at the same levels.
+ExperimentConfig draw_design(int n, int m, Draw& draw) {
+  ExperimentConfig cfg;
+  cfg.n = n;
+  cfg.m = m;
+  cfg.v_min = draw.uniform(-3.0, 0.0);
+  cfg.v_max = cfg.v_min + draw.uniform(2.0, 6.0);
+  const double step = (cfg.v_max - cfg.v_min) / m;
+  std::vector<double> interior;
+  for (int k = 1; k < m; ++k) interior.push_back(cfg.v_min + (k + draw.uniform(-0.25, 0.25)) * step);
+  cfg.V_d = {cfg.v_min};
+  cfg.V_d.insert(cfg.V_d.end(), interior.begin(), interior.end());
+  cfg.V_a = {cfg.v_max};
+  cfg.V_a.insert(cfg.V_a.end(), interior.rbegin(), interior.rend());
+  return cfg;
+}
+
+// The effects that act on the recorded output (drift, sensor noise) or on the user's belief (the operator type);
+// the input lag and the dead time are in the plant's operator already. Records the truth in c.effect.
+void apply_effect(HiddenEffectCase& c, Cause cause, const EffectSizes& e, std::uint64_t noise_seed) {
+  switch (cause) {
+    case Cause::kNone:
+      break;
+    case Cause::kInputLag:
+      c.effect.lambda = e.lambda;
+      break;
+    case Cause::kDeadTime:
+      c.effect.delay = e.delay;
+      break;
+    case Cause::kSensorDrift: {
+      const double total = e.drift_fraction * standard_deviation(c.recording);
+      const double last = static_cast<double>(c.recording.size() - 1);
+      c.effect.drift_total = total;
+      c.recording = map_outputs(c.recording, [&](std::size_t tau, double y) {
+        return y + total * static_cast<double>(tau) / last;
+      });
+      break;
+    }
+    case Cause::kColoredNoise: {
+      c.effect.sensor_snr_db = e.snr_db;
+      GaussianNoise sensor(std::pow(standard_deviation(c.recording) / std::pow(10.0, e.snr_db / 20.0), 2.0),
+                           noise_seed ^ 0x5bd1e995ULL);
+      c.recording = map_outputs(c.recording, [&](std::size_t, double y) { return y + sensor.next(); });
+      break;
+    }
+    case Cause::kOperatorType:
+      c.config.op = c.effect.true_operator == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+      break;
+  }
+}
+
 }  // namespace
 
 HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, const HiddenEffectLengths& lengths) {
@@ -141,26 +198,17 @@ HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, co
   const double gain = draw.uniform(0.8, 2.0);
   for (double& b : c.model.b) b *= gain * A1 / B1;
 
-  // Design: V_d and V_a share their interior abscissas, so both borders are known at the same levels.
-  ExperimentConfig& cfg = c.config;
-  cfg.n = n;
-  cfg.m = m;
-  cfg.v_min = draw.uniform(-3.0, 0.0);
-  cfg.v_max = cfg.v_min + draw.uniform(2.0, 6.0);
-  const double step = (cfg.v_max - cfg.v_min) / m;
-  std::vector<double> interior;
-  for (int k = 1; k < m; ++k) interior.push_back(cfg.v_min + (k + draw.uniform(-0.25, 0.25)) * step);
-  cfg.V_d = {cfg.v_min};
-  cfg.V_d.insert(cfg.V_d.end(), interior.begin(), interior.end());
-  cfg.V_a = {cfg.v_max};
-  cfg.V_a.insert(cfg.V_a.end(), interior.rbegin(), interior.rend());
+  c.config = draw_design(n, m, draw);
+  const ExperimentConfig& cfg = c.config;
   std::vector<double> grid = cfg.V_d;
   grid.push_back(cfg.v_max);
 
   const OperatorKind kind = draw.coin(0.5) ? OperatorKind::kSwitch : OperatorKind::kBacklash;
   c.effect.true_operator = kind;
-  cfg.op = kind;
-  auto [ascending, descending] = random_borders(grid, draw);
+  c.config.op = kind;
+  const std::pair<Border, Border> borders = random_borders(grid, draw);
+  const Border& ascending = borders.first;
+  const Border& descending = borders.second;
   c.effect.border_v = grid;
   for (double v : grid) {
     c.effect.border_ascending.push_back(ascending(v));
@@ -169,12 +217,7 @@ HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, co
   const double rise_scale = descending(cfg.v_max) - descending(cfg.v_min);
   c.noise_variance = std::pow(draw.uniform(0.003, 0.01) * rise_scale * gain * A1, 2.0);
 
-  // Magnitudes of the effects are drawn for every case (so a case's plant does not depend on its cause's draw
-  // order), then only the hidden one is applied.
-  const double lambda = draw.uniform(0.15, 0.5);
-  const int delay = draw.integer(1, 3);
-  const double drift_fraction = draw.uniform(0.3, 0.6) * (draw.coin(0.5) ? 1.0 : -1.0);
-  const double snr_db = draw.uniform(20.0, 30.0);
+  const EffectSizes sizes = draw_effect_sizes(draw);
   const std::uint64_t noise_seed = draw.raw();
   const std::vector<double> validation = validation_levels(grid, lengths.validation, draw);
 
@@ -187,51 +230,22 @@ HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, co
   s.pulse_length_d = s.pulse_length_a = lengths.pulses;
   s.validation_length = lengths.validation;
   s.initial_output = descending(cfg.v_min);
-  s.make_operator = [=]() -> std::unique_ptr<HysteresisOperator> {
+  s.make_operator = [kind, cause, borders, sizes]() -> std::unique_ptr<HysteresisOperator> {
     std::unique_ptr<HysteresisOperator> op;
     if (kind == OperatorKind::kSwitch) {
-      op = std::make_unique<SwitchOperator>(ascending, descending);
+      op = std::make_unique<SwitchOperator>(borders.first, borders.second);
     } else {
-      op = std::make_unique<BacklashOperator>(ascending, descending);
+      op = std::make_unique<BacklashOperator>(borders.first, borders.second);
     }
-    if (cause == Cause::kInputLag) return std::make_unique<InputLagOperator>(std::move(op), lambda);
-    if (cause == Cause::kDeadTime) return std::make_unique<DeadTimeOperator>(std::move(op), delay);
+    if (cause == Cause::kInputLag) return std::make_unique<InputLagOperator>(std::move(op), sizes.lambda);
+    if (cause == Cause::kDeadTime) return std::make_unique<DeadTimeOperator>(std::move(op), sizes.delay);
     return op;
   };
   SimulationOptions options;
   options.seed = noise_seed;
   options.validation_input = validation;
   c.recording = simulate(s, options);
-
-  switch (cause) {
-    case Cause::kNone:
-      break;
-    case Cause::kInputLag:
-      c.effect.lambda = lambda;
-      break;
-    case Cause::kDeadTime:
-      c.effect.delay = delay;
-      break;
-    case Cause::kSensorDrift: {
-      const double total = drift_fraction * standard_deviation(c.recording);
-      const double last = static_cast<double>(c.recording.size() - 1);
-      c.effect.drift_total = total;
-      c.recording = map_outputs(c.recording, [&](std::size_t tau, double y) {
-        return y + total * static_cast<double>(tau) / last;
-      });
-      break;
-    }
-    case Cause::kColoredNoise: {
-      c.effect.sensor_snr_db = snr_db;
-      GaussianNoise sensor(std::pow(standard_deviation(c.recording) / std::pow(10.0, snr_db / 20.0), 2.0),
-                           noise_seed ^ 0x5bd1e995ULL);
-      c.recording = map_outputs(c.recording, [&](std::size_t, double y) { return y + sensor.next(); });
-      break;
-    }
-    case Cause::kOperatorType:
-      cfg.op = kind == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
-      break;
-  }
+  apply_effect(c, cause, sizes, noise_seed);
   return c;
 }
 

@@ -1,0 +1,101 @@
+// Simulation and one-step prediction of a JointModel, and the flat view of a recording it works on.
+#include <algorithm>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "lashid/analysis/joint_model.hpp"
+#include "lashid/plant/border.hpp"
+#include "lashid/plant/operators.hpp"
+#include "model_operator.hpp"
+
+namespace lashid::sim {
+
+namespace detail {
+
+namespace {
+
+Border table_border(const std::vector<double>& x, const std::vector<double>& u) {
+  std::vector<std::pair<double, double>> points;
+  for (std::size_t i = 0; i < x.size(); ++i) points.emplace_back(x[i], u[i]);
+  return Border::from_table(std::move(points));
+}
+
+}  // namespace
+
+std::unique_ptr<HysteresisOperator> make_model_operator(const JointModel& model, double w0) {
+  Border asc = table_border(model.ascending_v, model.ascending_u);
+  Border desc = table_border(model.descending_v, model.descending_u);
+  const double u0 = desc(w0);
+  std::unique_ptr<HysteresisOperator> op;
+  if (model.structure.op == OperatorKind::kSwitch) {
+    op = std::make_unique<SwitchOperator>(std::move(asc), std::move(desc));
+  } else {
+    op = std::make_unique<BacklashOperator>(std::move(asc), std::move(desc));
+  }
+  op->reset(w0, u0);
+  return op;
+}
+
+double tau(std::size_t t, std::size_t samples) {
+  return samples > 1 ? static_cast<double>(t) / static_cast<double>(samples - 1) : 0.0;
+}
+
+}  // namespace detail
+
+using detail::make_model_operator;
+using detail::tau;
+
+std::vector<double> operator_output(const JointModel& model, const FlatRecording& data) {
+  const std::vector<double> w = effective_input(data.v, model.structure);
+  std::vector<double> u(w.size());
+  if (w.empty()) return u;
+  auto op = make_model_operator(model, w[0]);
+  for (std::size_t t = 0; t < w.size(); ++t) u[t] = op->step(w[t]);
+  return u;
+}
+
+namespace {
+
+// y(t) of the model's equation given the past outputs `past(t - i)` and the operator outputs u.
+template <class Past>
+double model_equation(const JointModel& model, const FlatRecording& data, const std::vector<double>& u, std::size_t t,
+                      Past past) {
+  double y = model.kappa0 + model.kappa1 * tau(t, data.size());
+  for (int i = 1; i <= model.n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double u_lag = t >= k ? u[t - k] : u[0];
+    y += -model.a[k - 1] * past(t, k) + model.b[k - 1] * u_lag;
+  }
+  return y;
+}
+
+}  // namespace
+
+std::vector<double> simulate_segment(const JointModel& model, const FlatRecording& data, std::size_t begin,
+                                     std::size_t end) {
+  if (begin > end || end > data.size()) throw std::out_of_range("simulate_segment: bad sample range");
+  const std::vector<double> u = operator_output(model, data);
+  std::vector<double> ys(end - begin);
+  const auto past = [&](std::size_t t, std::size_t k) {
+    if (t >= k && t - k >= begin) return ys[t - k - begin];
+    return t >= k ? data.y[t - k] : data.y[0];
+  };
+  for (std::size_t t = begin; t < end; ++t) ys[t - begin] = model_equation(model, data, u, t, past);
+  return ys;
+}
+
+std::vector<double> prediction_errors(const JointModel& model, const FlatRecording& data, std::size_t begin,
+                                      std::size_t end) {
+  if (begin > end || end > data.size()) throw std::out_of_range("prediction_errors: bad sample range");
+  const std::vector<double> u = operator_output(model, data);
+  std::vector<double> e;
+  const auto past = [&](std::size_t t, std::size_t k) { return t >= k ? data.y[t - k] : data.y[0]; };
+  for (std::size_t t = std::max(begin, static_cast<std::size_t>(model.n)); t < end; ++t) {
+    e.push_back(data.y[t] - model_equation(model, data, u, t, past));
+  }
+  return e;
+}
+
+}  // namespace lashid::sim
