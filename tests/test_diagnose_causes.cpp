@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "lashid/analysis/joint_model.hpp"
 #include "lashid/diagnose/diagnosis.hpp"
 #include "lashid/sim/hidden_effect.hpp"
-#include "lashid/analysis/joint_model.hpp"
 
 namespace {
 

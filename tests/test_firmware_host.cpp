@@ -9,8 +9,8 @@
 
 #include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
-#include "lashid/hil/hil.hpp"
 #include "lashid/hal/remote_plant_port.hpp"
+#include "lashid/hil/hil.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/sim/scenario.hpp"
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "data_error_matchers.hpp"
-#include "lashid/io/damper_data.hpp"
 #include "lashid/identify/identify.hpp"
+#include "lashid/io/damper_data.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/sim/scenario.hpp"
 

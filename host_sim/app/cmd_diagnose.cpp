@@ -7,11 +7,11 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "lashid/diagnose/diagnosis.hpp"
+#include "lashid/io/files.hpp"
 #include "lashid/report/diagnose_plot.hpp"
 #include "lashid/report/json.hpp"
-#include "lashid/diagnose/diagnosis.hpp"
 #include "lashid/sim/hidden_effect.hpp"
-#include "lashid/io/files.hpp"
 
 namespace lashid::app {
 

@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "lashid/estimator/status.hpp"
+#include "lashid/hil/hil.hpp"
+#include "lashid/io/config.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/report.hpp"
-#include "lashid/estimator/status.hpp"
-#include "lashid/io/config.hpp"
-#include "lashid/hil/hil.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::app {

@@ -10,14 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "lashid/report/json.hpp"
-#include "lashid/io/config.hpp"
 #include "lashid/identify/identify.hpp"
+#include "lashid/io/config.hpp"
+#include "lashid/io/files.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
-#include "lashid/sim/scenario.hpp"
+#include "lashid/report/json.hpp"
 #include "lashid/report/plot.hpp"
 #include "lashid/report/report.hpp"
-#include "lashid/io/files.hpp"
+#include "lashid/sim/scenario.hpp"
 
 namespace lashid::app {
 

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "lashid/report/json.hpp"
 #include "lashid/paper/paper_reference.hpp"
 #include "lashid/paper/reproduction.hpp"
+#include "lashid/report/json.hpp"
 #include "lashid/report/report.hpp"
 
 namespace lashid::app {

@@ -9,8 +9,8 @@
 
 #include <fmt/format.h>
 
-#include "lashid/io/recording.hpp"
 #include "lashid/io/files.hpp"
+#include "lashid/io/recording.hpp"
 
 namespace lashid::sim {
 

@@ -1,8 +1,8 @@
 // --plot of `lashid diagnose`: val simulations and the residual correlations with their 99 % bands.
 #include <fmt/format.h>
 
-#include "lashid/report/diagnose_plot.hpp"
 #include "lashid/diagnose/diagnosis.hpp"
+#include "lashid/report/diagnose_plot.hpp"
 #include "lashid/report/plot.hpp"
 
 namespace lashid::report {

@@ -8,11 +8,11 @@
 
 #include <optional>
 
-#include "lashid/io/config.hpp"
-#include "lashid/identify/identify.hpp"
-#include "lashid/plant/effect.hpp"
 #include "lashid/analysis/joint_model.hpp"
+#include "lashid/identify/identify.hpp"
+#include "lashid/io/config.hpp"
 #include "lashid/io/recording.hpp"
+#include "lashid/plant/effect.hpp"
 #include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim {

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "lashid/plant/border.hpp"
 #include "lashid/io/damper_data.hpp"
+#include "lashid/plant/border.hpp"
 #include "lashid/plant/friction_gap.hpp"
 #include "lashid/plant/operators.hpp"
 

@@ -3,8 +3,8 @@
 
 #include <span>
 
-#include "lashid/io/config.hpp"
 #include "lashid/identify/identify.hpp"
+#include "lashid/io/config.hpp"
 
 namespace lashid::report {
 

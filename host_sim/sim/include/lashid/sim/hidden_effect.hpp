@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "lashid/io/config.hpp"
+#include "lashid/io/recording.hpp"
 #include "lashid/plant/effect.hpp"
 #include "lashid/plant/linear_plant.hpp"
-#include "lashid/io/recording.hpp"
 
 namespace lashid::sim {
 

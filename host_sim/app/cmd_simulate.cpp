@@ -1,18 +1,12 @@
-// `lashid scenarios`, `lashid simulate`, `lashid identify`.
+// `lashid scenarios` and `lashid simulate`: the built-in plants, and recordings of them.
 #include <filesystem>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
-
-#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "lashid/report/json.hpp"
-#include "lashid/identify/identify.hpp"
-#include "lashid/paper/reproduction.hpp"
-#include "lashid/sim/scenario.hpp"
-#include "lashid/report/report.hpp"
 #include "lashid/io/files.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/sim/scenario.hpp"
 
 namespace lashid::app {
 
@@ -52,32 +46,6 @@ int run_simulate(const SimulateArgs& args) {
   fmt::print("wrote {} ({} samples){}\n", args.data_out, rec.size(),
              args.config_out.empty() ? "" : fmt::format(" and {}", args.config_out));
   return 0;
-}
-
-int run_identify(const IdentifyArgs& args) {
-  const ExperimentConfig config = read_config_json(args.config);
-  const Recording rec = read_recording_csv(args.data);
-  check_recording_matches(config, rec, args.data);
-  IdentifyOptions options;
-  options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
-
-  const bool want_dis = args.scheme == "dis" || (args.scheme == "both" && rec.has(Phase::kDis));
-  const bool want_ais = args.scheme == "ais" || (args.scheme == "both" && rec.has(Phase::kAis));
-  if (!want_dis && !want_ais) {
-    throw DataError(args.data, "no 'dis' or 'ais' phase: nothing to identify");
-  }
-  nlohmann::json out = nlohmann::json::object();
-  int exit_code = 0;
-  for (const auto scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
-    const bool dis = scheme == est::Scheme::kDescending;
-    if (dis ? !want_dis : !want_ais) continue;
-    const SchemeResult r = identify_scheme(config, rec, scheme, options, args.data);
-    report::print_scheme_result(config, r);
-    if (r.status != est::Status::kOk) exit_code = 2;
-    out[dis ? "dis" : "ais"] = to_json(r);
-  }
-  if (!args.json_out.empty()) write_json_file(args.json_out, out);
-  return exit_code;
 }
 
 }  // namespace lashid::app

@@ -1,0 +1,43 @@
+// `lashid identify`: DIS and/or AIS on a recording, printed next to the truth, optionally as JSON.
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "lashid/identify/identify.hpp"
+#include "lashid/io/config.hpp"
+#include "lashid/io/recording.hpp"
+#include "lashid/report/json.hpp"
+#include "lashid/report/report.hpp"
+
+namespace lashid::app {
+
+using namespace lashid::sim;
+
+int run_identify(const IdentifyArgs& args) {
+  const ExperimentConfig config = read_config_json(args.config);
+  const Recording rec = read_recording_csv(args.data);
+  check_recording_matches(config, rec, args.data);
+  IdentifyOptions options;
+  options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
+
+  const bool want_dis = args.scheme == "dis" || (args.scheme == "both" && rec.has(Phase::kDis));
+  const bool want_ais = args.scheme == "ais" || (args.scheme == "both" && rec.has(Phase::kAis));
+  if (!want_dis && !want_ais) {
+    throw DataError(args.data, "no 'dis' or 'ais' phase: nothing to identify");
+  }
+  nlohmann::json out = nlohmann::json::object();
+  int exit_code = 0;
+  for (const auto scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
+    const bool dis = scheme == est::Scheme::kDescending;
+    if (dis ? !want_dis : !want_ais) continue;
+    const SchemeResult r = identify_scheme(config, rec, scheme, options, args.data);
+    report::print_scheme_result(config, r);
+    if (r.status != est::Status::kOk) exit_code = 2;
+    out[dis ? "dis" : "ais"] = to_json(r);
+  }
+  if (!args.json_out.empty()) write_json_file(args.json_out, out);
+  return exit_code;
+}
+
+}  // namespace lashid::app
