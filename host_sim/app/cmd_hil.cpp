@@ -20,17 +20,8 @@ using namespace lashid::sim;
 
 namespace {
 
-const char* run_status_name(int s) {
-  switch (static_cast<fw::RunStatus>(s)) {
-    case fw::RunStatus::kOk: return "ok";
-    case fw::RunStatus::kIntervalTooNarrow: return "interval too narrow";
-    case fw::RunStatus::kActuatorFault: return "actuator fault";
-    case fw::RunStatus::kSensorFault: return "sensor fault";
-    case fw::RunStatus::kEstimatorFailed: return "estimator failed";
-    case fw::RunStatus::kStopped: return "stopped";
-  }
-  return s < 0 ? "no report" : "unknown";
-}
+// kDone's status byte, or -1 when no kDone frame arrived.
+const char* run_status_name(int s) { return s < 0 ? "no report" : fw::to_string(static_cast<fw::RunStatus>(s)); }
 
 std::vector<double> flatten(const fw::EstimateRecord& e) {
   std::vector<double> x;
@@ -41,7 +32,7 @@ std::vector<double> flatten(const fw::EstimateRecord& e) {
 }
 
 void print_estimate(const fw::EstimateRecord& e, const ExperimentConfig& config) {
-  const bool dis = e.scheme == 0;
+  const bool dis = e.scheme == est::Scheme::kDescending;
   const auto& V = dis ? config.V_d : config.V_a;
   const Truth* truth = config.truth ? &*config.truth : nullptr;
   const auto cell = [](const std::vector<double>* v, std::size_t k) {
@@ -112,8 +103,9 @@ int run_hil_command(const HilArgs& args) {
     const double per_update = c.updates ? static_cast<double>(c.update_cycles) / c.updates : 0.0;
     const double per_solve = c.solves ? static_cast<double>(c.solve_cycles) / c.solves : 0.0;
     const double amortised = c.updates ? static_cast<double>(c.update_cycles + c.solve_cycles) / c.updates : 0.0;
-    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes\n", c.samples,
-               c.link_errors, c.retries, c.stack_bytes);
+    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes, samples rejected by "
+               "the estimator {}, reports not sent {}\n",
+               c.samples, c.link_errors, c.retries, c.stack_bytes, c.rejected_samples, c.send_failures);
     fmt::print("  cost (board cycles{}): update {:.1f}/sample, solve {:.0f}/call ({} calls), amortised {:.1f}/sample\n",
                args.icount ? "" : "; without --icount SysTick follows host time: not an instruction count",
                per_update, per_solve, c.solves, amortised);
@@ -124,9 +116,10 @@ int run_hil_command(const HilArgs& args) {
     }
     out["cost"] = {{"update_cycles", c.update_cycles}, {"updates", c.updates},   {"solve_cycles", c.solve_cycles},
                    {"solves", c.solves},               {"samples", c.samples},   {"link_errors", c.link_errors},
-                   {"retries", c.retries},             {"stack_bytes", c.stack_bytes}};
+                   {"retries", c.retries},             {"stack_bytes", c.stack_bytes},
+                   {"rejected_samples", c.rejected_samples}, {"send_failures", c.send_failures}};
   }
-  for (const auto& e : r.estimates) out[e.scheme == 0 ? "dis" : "ais"] = estimate_json(e);
+  for (const auto& e : r.estimates) out[e.scheme == est::Scheme::kDescending ? "dis" : "ais"] = estimate_json(e);
   out["done"] = r.done;
   out["qemu_exit"] = r.qemu_exit;
 
