@@ -13,6 +13,7 @@
 
 #include "lashid/estimator/batch_ls.hpp"
 #include "lashid/estimator/covariance_rls.hpp"
+#include "lashid/estimator/cross_check.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/estimator/symmetric_eigenvalues.hpp"
@@ -322,6 +323,22 @@ TEST(CovarianceRls, Float32DriftsWhereTheGroupedFormDoesNot) {
   std::printf("DIS N=2e5: float32 covariance RLS vs double batch: %.3g, %d rejected updates (grouped: %.3g)\n", rel,
               breakdowns, grouped);
   EXPECT_TRUE(breakdowns > 0 || rel > 10 * grouped);
+}
+
+TEST(CrossCheck, LargestZOverAAndBInCombinedStandardErrors) {
+  // se(b_i) = |W_1| se(mu_i1), |W_1| = v_M - v_m.
+  EXPECT_DOUBLE_EQ(b_std_error(0.5, -3.0, 4.0), 3.5);
+  const std::vector<double> a_d{1.0, 0.2}, a_a{1.0, 0.5}, se_a{0.1, 0.1};
+  const std::vector<double> b_d{70.0, -35.0}, b_a{66.0, -35.5}, se_b{1.0, 1.0};
+  const CrossCheck<double> c = cross_check(LinearEstimate<double>{a_d, se_a, b_d, se_b},
+                                           LinearEstimate<double>{a_a, se_a, b_a, se_b});
+  EXPECT_EQ(c.status, Status::kOk);
+  EXPECT_NEAR(c.max_z, 4.0 / std::sqrt(2.0), 1e-12);  // b_1 beats a_2's 0.3 / sqrt(0.02) = 2.12
+  EXPECT_EQ(c.worst, 2);                              // index n + 0: b_1
+  const std::vector<double> one{1.0};
+  const CrossCheck<double> bad = cross_check(LinearEstimate<double>{a_d, se_a, b_d, se_b},
+                                             LinearEstimate<double>{one, se_a, b_a, se_b});
+  EXPECT_EQ(bad.status, Status::kOrderOutOfRange);
 }
 
 TEST(SchemeIdentifier, ReportsBadInputAsStatus) {

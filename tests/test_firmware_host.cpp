@@ -1,10 +1,12 @@
 // The identification firmware on the host board: same code as on Cortex-M, plant in-process.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "lashid/firmware/paper_configs.hpp"
@@ -84,8 +86,7 @@ TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
   ASSERT_EQ(r.estimates.size(), 2u);
   EXPECT_EQ(r.done, static_cast<int>(fw::RunStatus::kOk));
   for (const auto& e : r.estimates) {
-    const auto scheme = e.scheme == 0 ? est::Scheme::kDescending : est::Scheme::kAscending;
-    const sim::SchemeResult cli = sim::identify_scheme(s.config, rec, scheme, f32, "rec");
+    const sim::SchemeResult cli = sim::identify_scheme(s.config, rec, e.scheme, f32, "rec");
     EXPECT_EQ(e.status, static_cast<int>(est::Status::kOk));
     for (std::size_t i = 0; i < 2; ++i) {
       EXPECT_FLOAT_EQ(e.a[i], static_cast<float>(cli.a[i]));
@@ -97,7 +98,10 @@ TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
   // Remark 3b on a plant that is what the model says: the DIS and AIS linear estimates agree.
   EXPECT_EQ(r.cross.disagree, 0) << "max z " << r.cross.max_z;
   EXPECT_GT(r.cross.max_z, 0.0f);
-  // Cost: one update per pulse sample, one solve per pulse period (and at the end).
+  // Cost: one update per pulse sample, one solve per pulse period (and at the end); every sample used, every
+  // report sent.
+  EXPECT_EQ(r.cost.rejected_samples, 0u);
+  EXPECT_EQ(r.cost.send_failures, 0u);
   EXPECT_EQ(r.cost.updates, 16000u);
   EXPECT_EQ(r.cost.solves, 2u * ((8000 + 17) / 18));
   EXPECT_EQ(r.cost.samples, 2u * 2001 + 16000);
@@ -114,7 +118,7 @@ TEST(FirmwareOnHostBoard, DisExampleWithIntervalCheckIdentifiesTheBacklash) {
   for (const auto& e : r.estimates) {
     EXPECT_NEAR(e.a[0], truth.a[0], 4 * e.se_a[0]);
     EXPECT_NEAR(e.b[0], truth.b[0], 4 * e.se_b[0]);
-    const auto& F = e.scheme == 0 ? truth.F_d : truth.F_a;
+    const auto& F = e.scheme == est::Scheme::kDescending ? truth.F_d : truth.F_a;
     for (std::size_t j = 0; j < 6; ++j) EXPECT_NEAR(e.F[j], F[j], 0.1) << "scheme " << int(e.scheme) << " j " << j;
   }
   EXPECT_EQ(r.cross.disagree, 0) << "max z " << r.cross.max_z;
@@ -158,6 +162,76 @@ TEST(FirmwareOnHostBoard, CrossCheckFlagsAPlantThatIsNotSwitchOrBacklash) {
   (void)firmware.run();
   const Reports r = reports_of(board);
   EXPECT_EQ(r.cross.disagree, 1) << "max z " << r.cross.max_z;
+}
+
+// A sensor that returns NaN (and says ok) at the chosen samples: the estimator must refuse them, and the firmware
+// must count them instead of dropping the status.
+class NanSensorBoard : public sim::ScenarioBoard {
+ public:
+  NanSensorBoard(sim::ScenarioBoard board, std::vector<std::size_t> nan_at)
+      : sim::ScenarioBoard(std::move(board)), nan_at_(std::move(nan_at)) {}
+  hal::Status measure(float& y) {
+    const hal::Status s = sim::ScenarioBoard::measure(y);
+    if (std::find(nan_at_.begin(), nan_at_.end(), exchanges().size() - 1) != nan_at_.end()) y = std::nanf("");
+    return s;
+  }
+
+ private:
+  std::vector<std::size_t> nan_at_;
+};
+
+TEST(FirmwareOnHostBoard, CountsTheSamplesTheEstimatorRejects) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  // Sample 100 of the DIS step experiment; pulse samples 1000 and 5000 of the DP experiment (t = 0 at 2001).
+  NanSensorBoard board(sim::make_scenario_board(s, 7), {100, 2001 + 1000, 2001 + 5000});
+  static_assert(hal::Board<NanSensorBoard>);
+  fw::IdentificationSequencer<NanSensorBoard, fw::AisPaperConfig> firmware(board);
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);  // the least squares on the rows used
+  // The step sample, and per NaN pulse sample its own row and the n = 2 rows that hold it as a lag.
+  EXPECT_EQ(firmware.cost().rejected_samples, 1u + 2u * (1 + 2));
+  EXPECT_EQ(reports_of(board).cost.rejected_samples, firmware.cost().rejected_samples);
+}
+
+TEST(FirmwareMessages, RecordSizesAndNames) {
+  // The size the sequencer's static_assert checks is the size encode() writes.
+  fw::EstimateRecord e;
+  e.n = 2;
+  e.m = 6;
+  hal::link::PayloadWriter w;
+  e.encode(w);
+  EXPECT_TRUE(w.ok());
+  EXPECT_EQ(w.size(), fw::EstimateRecord::encoded_size(2, 6));
+  // The largest orders the record holds do not fit a frame: the writer overflows (and the sequencer would not send).
+  e.n = fw::kMaxRecordOrder;
+  e.m = fw::kMaxRecordPoints;
+  hal::link::PayloadWriter big;
+  e.encode(big);
+  EXPECT_FALSE(big.ok());
+  EXPECT_EQ(fw::EstimateRecord::encoded_size(8, 16), 204u);
+  hal::link::PayloadWriter c;
+  fw::CostRecord{}.encode(c);
+  EXPECT_EQ(c.size(), fw::CostRecord::kEncodedSize);
+  hal::link::PayloadWriter x;
+  fw::CrossCheckRecord{}.encode(x);
+  EXPECT_EQ(x.size(), fw::CrossCheckRecord::kEncodedSize);
+
+  // The scheme byte is est::Scheme on the wire, as before (0 = DIS, 1 = AIS); anything else is refused.
+  e.n = 2;
+  e.m = 6;
+  e.scheme = est::Scheme::kAscending;
+  hal::link::PayloadWriter ws;
+  e.encode(ws);
+  EXPECT_EQ(ws.data()[0], 1);
+  fw::EstimateRecord back;
+  ASSERT_TRUE(back.decode(hal::link::PayloadReader(ws.data(), ws.size())));
+  EXPECT_EQ(back.scheme, est::Scheme::kAscending);
+  std::vector<std::uint8_t> bad(ws.data(), ws.data() + ws.size());
+  bad[0] = 2;
+  EXPECT_FALSE(back.decode(hal::link::PayloadReader(bad.data(), bad.size())));
+
+  static_assert(std::string_view(fw::to_string(fw::RunStatus::kOk)) == "ok");
+  EXPECT_STREQ(fw::to_string(fw::RunStatus::kIntervalTooNarrow), "interval too narrow");
+  EXPECT_STREQ(fw::to_string(fw::Stage::kPulseA), "AP pulse experiment");
 }
 
 std::vector<std::uint8_t> command(hal::link::Command c) {

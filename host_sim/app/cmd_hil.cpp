@@ -1,17 +1,18 @@
 // `lashid hil`: the firmware in QEMU identifies the plant the host plays over the emulated UART.
-#include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "lashid/estimator/status.hpp"
 #include "lashid/hil/hil.hpp"
+#include "lashid/hil/verdict.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/report/json.hpp"
-#include "lashid/report/report.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::app {
@@ -20,28 +21,11 @@ using namespace lashid::sim;
 
 namespace {
 
-const char* run_status_name(int s) {
-  switch (static_cast<fw::RunStatus>(s)) {
-    case fw::RunStatus::kOk: return "ok";
-    case fw::RunStatus::kIntervalTooNarrow: return "interval too narrow";
-    case fw::RunStatus::kActuatorFault: return "actuator fault";
-    case fw::RunStatus::kSensorFault: return "sensor fault";
-    case fw::RunStatus::kEstimatorFailed: return "estimator failed";
-    case fw::RunStatus::kStopped: return "stopped";
-  }
-  return s < 0 ? "no report" : "unknown";
-}
-
-std::vector<double> flatten(const fw::EstimateRecord& e) {
-  std::vector<double> x;
-  for (int i = 0; i < e.n; ++i) x.push_back(e.a[static_cast<std::size_t>(i)]);
-  for (int i = 0; i < e.n; ++i) x.push_back(e.b[static_cast<std::size_t>(i)]);
-  for (int j = 0; j < e.m; ++j) x.push_back(e.F[static_cast<std::size_t>(j)]);
-  return x;
-}
+// kDone's status byte, or -1 when no kDone frame arrived.
+const char* run_status_name(int s) { return s < 0 ? "no report" : fw::to_string(static_cast<fw::RunStatus>(s)); }
 
 void print_estimate(const fw::EstimateRecord& e, const ExperimentConfig& config) {
-  const bool dis = e.scheme == 0;
+  const bool dis = e.scheme == est::Scheme::kDescending;
   const auto& V = dis ? config.V_d : config.V_a;
   const Truth* truth = config.truth ? &*config.truth : nullptr;
   const auto cell = [](const std::vector<double>* v, std::size_t k) {
@@ -88,6 +72,12 @@ int run_hil_command(const HilArgs& args) {
   options.corrupt_every = args.corrupt_every;
   options.icount = args.icount;
   const HilResult r = run_hil(options);
+  std::optional<HilResult> host;
+  if (args.compare_host) host = run_on_host_board(args.scenario, args.seed);
+  JudgeOptions rules;
+  rules.attached = !options.attach_link.empty();
+  rules.tolerance = args.tolerance;
+  const HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
 
   fmt::print("== hil: {} on {}, plant {} (seed {}) ==\n",
              args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine, args.scenario, args.seed);
@@ -101,8 +91,11 @@ int run_hil_command(const HilArgs& args) {
     if (c.max_z < 0) {
       fmt::print("  cross-check (Remark 3b): not available (a scheme failed)\n");
     } else {
-      fmt::print("  cross-check (Remark 3b): max |DIS - AIS| / se = {:.2f} on {}{} (threshold {:.1f}): {}\n", c.max_z,
-                 c.worst < r.estimates.front().n ? "a" : "b", c.worst % r.estimates.front().n + 1, c.threshold,
+      // The order n from a usable estimate (none may have arrived: the index is then printed as it is).
+      const std::optional<std::size_t> k = verdict.dis ? verdict.dis : verdict.ais;
+      const int n = k ? r.estimates[*k].n : 0;
+      fmt::print("  cross-check (Remark 3b): max |DIS - AIS| / se = {:.2f} on {} (threshold {:.1f}): {}\n", c.max_z,
+                 cross_check_parameter(c.worst, n), c.threshold,
                  c.disagree ? "DISAGREE: the nonlinearity is not the assumed switch/backlash" : "agree");
     }
   }
@@ -112,8 +105,9 @@ int run_hil_command(const HilArgs& args) {
     const double per_update = c.updates ? static_cast<double>(c.update_cycles) / c.updates : 0.0;
     const double per_solve = c.solves ? static_cast<double>(c.solve_cycles) / c.solves : 0.0;
     const double amortised = c.updates ? static_cast<double>(c.update_cycles + c.solve_cycles) / c.updates : 0.0;
-    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes\n", c.samples,
-               c.link_errors, c.retries, c.stack_bytes);
+    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes, samples rejected by "
+               "the estimator {}, reports not sent {}\n",
+               c.samples, c.link_errors, c.retries, c.stack_bytes, c.rejected_samples, c.send_failures);
     fmt::print("  cost (board cycles{}): update {:.1f}/sample, solve {:.0f}/call ({} calls), amortised {:.1f}/sample\n",
                args.icount ? "" : "; without --icount SysTick follows host time: not an instruction count",
                per_update, per_solve, c.solves, amortised);
@@ -124,40 +118,44 @@ int run_hil_command(const HilArgs& args) {
     }
     out["cost"] = {{"update_cycles", c.update_cycles}, {"updates", c.updates},   {"solve_cycles", c.solve_cycles},
                    {"solves", c.solves},               {"samples", c.samples},   {"link_errors", c.link_errors},
-                   {"retries", c.retries},             {"stack_bytes", c.stack_bytes}};
+                   {"retries", c.retries},             {"stack_bytes", c.stack_bytes},
+                   {"rejected_samples", c.rejected_samples}, {"send_failures", c.send_failures}};
   }
-  for (const auto& e : r.estimates) out[e.scheme == 0 ? "dis" : "ais"] = estimate_json(e);
+  for (const auto& e : r.estimates) out[e.scheme == est::Scheme::kDescending ? "dis" : "ais"] = estimate_json(e);
   out["done"] = r.done;
   out["qemu_exit"] = r.qemu_exit;
 
-  // Attached: QEMU is the user's, its exit status is unknown (-1); the kDone status decides.
-  const bool qemu_ok = r.qemu_exit == 0 || (!options.attach_link.empty() && r.qemu_exit == -1);
-  bool ok = r.done == static_cast<int>(fw::RunStatus::kOk) && qemu_ok && r.estimates.size() == 2;
-  if (args.compare_host) {
-    const HilResult host = run_on_host_board(args.scenario, args.seed);
-    double worst = 0;
-    for (std::size_t s = 0; s < r.estimates.size() && s < host.estimates.size(); ++s) {
-      worst = std::fmax(worst, report::relative_difference(flatten(r.estimates[s]), flatten(host.estimates[s])));
-    }
-    const bool same = host.estimates.size() == r.estimates.size() && worst <= args.tolerance &&
-                      host.samples == r.samples;
+  if (verdict.host) {
+    const HostComparison& h = *verdict.host;
     fmt::print("  QEMU vs host build of the same firmware: {} vs {} samples, max relative difference {:.2g} "
                "(tolerance {:.0e}): {}\n",
-               r.samples, host.samples, worst, args.tolerance, same ? "equal" : "DIFFERENT");
-    out["host_relative_difference"] = worst;
-    ok = ok && same;
+               h.samples, h.host_samples, h.max_relative_difference, args.tolerance, h.equal ? "equal" : "DIFFERENT");
+    out["host_relative_difference"] = h.max_relative_difference;
   }
-  if (r.corrupted_by_host > 0) {
-    // Every frame damaged on purpose must have been caught by the firmware's checksum and asked for again.
-    const std::uint32_t caught = r.cost ? r.cost->retries : 0;
-    const bool all_caught = r.cost && caught >= r.corrupted_by_host && r.cost->link_errors >= r.corrupted_by_host;
-    fmt::print("  fault injection: {} frames damaged, {} re-requested by the firmware: {}\n", r.corrupted_by_host,
-               caught, all_caught ? "all detected" : "NOT ALL DETECTED");
-    ok = ok && all_caught;
+  if (verdict.fault_injection) {
+    const FaultInjection& f = *verdict.fault_injection;
+    fmt::print("  fault injection: {} frames damaged, {} re-requested by the firmware: {}\n", f.damaged,
+               f.re_requested, f.all_detected ? "all detected" : "NOT ALL DETECTED");
   }
+  std::vector<std::string> failures;
+  for (const HilFailure f : verdict.failures) failures.emplace_back(to_string(f));
+  fmt::print("  verdict: {}\n", verdict.ok() ? "pass" : fmt::format("FAIL ({})", fmt::join(failures, "; ")));
+  out["verdict"] = {{"ok", verdict.ok()}, {"failures", failures}};
   if (!args.json_out.empty()) write_json_file(args.json_out, out);
   if (!r.console.empty()) fmt::print("  firmware console:\n{}", r.console);
-  return ok ? 0 : 1;
+  return verdict.ok() ? 0 : 1;
+}
+
+int run_qemu_command(const QemuCommandArgs& args) {
+  QemuCommand command;
+  command.qemu = args.qemu;
+  command.machine = args.machine;
+  command.serials = args.serials;
+  command.icount = args.icount;
+  command.kernel = args.kernel;
+  // One argument per line, for `mapfile -t` in scripts (paths with spaces stay one argument).
+  for (const std::string& arg : qemu_command_line(command)) fmt::print("{}\n", arg);
+  return 0;
 }
 
 }  // namespace lashid::app

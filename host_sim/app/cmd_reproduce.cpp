@@ -14,6 +14,7 @@
 #include "lashid/paper/reproduction.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/report.hpp"
+#include "lashid/stats/relative_difference.hpp"
 
 namespace lashid::app {
 
@@ -28,7 +29,7 @@ void print_theta(const SchemeResult& r, std::span<const double> paper_theta, con
                paper_theta[k], truth[k]);
   }
   fmt::print("  ||ours - true|| / ||true|| = {:.4f}; ||paper - true|| / ||true|| = {:.4f}\n",
-             report::relative_difference(r.theta, truth), report::relative_difference(paper_theta, truth));
+             stats::relative_difference(r.theta, truth), stats::relative_difference(paper_theta, truth));
 }
 
 void print_points(const char* title, const std::vector<double>& V, const std::vector<double>& truth,
@@ -143,9 +144,9 @@ int run_reproduce(const ReproduceArgs& args) {
   // --- float32 (the firmware's precision) vs double ---------------------------------------------------------
   ScenarioRun f32 = run;
   f32.precision = Precision::kFloat;
-  const double dis_f = report::relative_difference(identify_scenario(dis_s, est::Scheme::kDescending, f32).theta, dis.theta);
+  const double dis_f = stats::relative_difference(identify_scenario(dis_s, est::Scheme::kDescending, f32).theta, dis.theta);
   const double ais_f =
-      report::relative_difference(identify_scenario(find_scenario("ais_paper"), est::Scheme::kAscending, f32).theta, ais.theta);
+      stats::relative_difference(identify_scenario(find_scenario("ais_paper"), est::Scheme::kAscending, f32).theta, ais.theta);
   fmt::print("\n== float32 recursive estimate vs double: ||dTheta|| / ||Theta|| = {:.2g} (DIS), {:.2g} (AIS) ==\n",
              dis_f, ais_f);
   out["float32_relative_difference"] = {{"dis", dis_f}, {"ais", ais_f}};

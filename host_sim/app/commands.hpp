@@ -53,6 +53,15 @@ struct HilArgs {
 };
 int run_hil_command(const HilArgs& args);
 
+struct QemuCommandArgs {
+  std::string kernel;
+  std::string machine = "mps2-an386";
+  std::string qemu = "qemu-system-arm";
+  std::vector<std::string> serials;
+  bool icount = false;
+};
+int run_qemu_command(const QemuCommandArgs& args);
+
 struct DiagnoseArgs {
   std::string config;
   std::string data;

@@ -91,6 +91,15 @@ int main(int argc, char** argv) {
                     "Run QEMU with -icount shift=0 (deterministic cycle counts; much slower exchanges)");
   hil_cmd->add_option("--json", hil.json_out, "Write the results as JSON");
 
+  QemuCommandArgs qemu;
+  auto* qemu_cmd = app.add_subcommand(
+      "qemu-command", "Print the qemu-system-arm command line for an image, one argument per line (cmake/Qemu.cmake)");
+  qemu_cmd->add_option("--kernel", qemu.kernel, "Firmware ELF")->required();
+  qemu_cmd->add_option("--machine", qemu.machine, "QEMU machine")->capture_default_str();
+  qemu_cmd->add_option("--qemu", qemu.qemu, "QEMU executable")->capture_default_str();
+  qemu_cmd->add_option("--serial", qemu.serials, "-serial backend of the next UART (UART0 first); repeatable");
+  qemu_cmd->add_flag("--icount", qemu.icount, "Add -icount shift=0 (deterministic instruction counts)");
+
   DiagnoseArgs diag;
   auto* diagnose = app.add_subcommand(
       "diagnose", "Simulate the identified model on 'val', find what it gets wrong, name the cause, extend, refit");
@@ -156,6 +165,7 @@ int main(int argc, char** argv) {
     if (*identify) return run_identify(id);
     if (*reproduce) return run_reproduce(rep);
     if (*hil_cmd) return run_hil_command(hil);
+    if (*qemu_cmd) return run_qemu_command(qemu);
     if (*diagnose) return run_diagnose(diag);
     if (*hidden_cmd) return run_hidden_effect(hidden);
     if (*sweep_cmd) return run_diagnose_sweep(sweep);

@@ -2,6 +2,7 @@
 // symbol check next to it can prove the object needs no heap and no exception machinery.
 #include "lashid/estimator/batch_ls.hpp"
 #include "lashid/estimator/covariance_rls.hpp"
+#include "lashid/estimator/cross_check.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
 
@@ -42,6 +43,10 @@ extern "C" int lashid_estimator_probe(const float* y, int count, float* first_po
   const auto e = g_identifier.estimate();
   const auto t = g_textbook.estimate();
   const auto b = g_batch.estimate();
-  *first_point = e.F(0) + t.F(0) + static_cast<float>(b.F(0));
+  // Remark 3b between two back-ends' estimates: the firmware's cross-check code is in the checked object too.
+  const float se[2] = {lashid::est::b_std_error(e.ls.std_error(2), -3.0f, 4.0f), t.ls.std_error(0)};
+  const lashid::est::LinearEstimate<float> x{{e.a.data(), 2}, se, {e.b.data(), 2}, se};
+  const lashid::est::LinearEstimate<float> z{{t.a.data(), 2}, se, {t.b.data(), 2}, se};
+  *first_point = e.F(0) + t.F(0) + static_cast<float>(b.F(0)) + lashid::est::cross_check(x, z).max_z;
   return static_cast<int>(e.status);
 }

@@ -4,10 +4,14 @@
 set -euo pipefail
 lashid=$1 qemu=$2 firmware=$3
 dir=$(mktemp -d)
+qemu_pid=""
 trap 'kill "${qemu_pid}" 2>/dev/null || true; rm -rf "${dir}"' EXIT
-"${qemu}" -machine mps2-an386 -nographic -monitor none \
-  -serial "unix:${dir}/link.sock,server=on,wait=off" -serial "unix:${dir}/plant.sock,server=on,wait=off" \
-  -semihosting-config enable=on,target=native -kernel "${firmware}" >"${dir}/qemu.log" 2>&1 &
+# The command line from the tool (cmake/Qemu.cmake's flags), one argument per line; UART0 and UART1 on server sockets.
+qemu_command=$("${lashid}" qemu-command --qemu "${qemu}" --machine mps2-an386 \
+  --serial "unix:${dir}/link.sock,server=on,wait=off" --serial "unix:${dir}/plant.sock,server=on,wait=off" \
+  --kernel "${firmware}")
+mapfile -t qemu_command <<<"${qemu_command}"
+"${qemu_command[@]}" >"${dir}/qemu.log" 2>&1 &
 qemu_pid=$!
 "${lashid}" hil --attach "${dir}/link.sock" "${dir}/plant.sock" --scenario dis_paper --seed 11 --compare-host \
   --timeout 240

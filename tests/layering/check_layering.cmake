@@ -24,7 +24,7 @@ set(allowed_host_sim/paper "sim;identify;io;plant;estimator")
 set(allowed_host_sim/analysis "io;plant;stats;estimator")
 set(allowed_host_sim/diagnose "analysis;identify;stats;io;plant;estimator")
 set(allowed_host_sim/operator_fit "io;plant;stats")
-set(allowed_host_sim/hil "firmware;hal;sim;io;plant;estimator")
+set(allowed_host_sim/hil "firmware;hal;sim;stats;io;plant;estimator")
 set(allowed_host_sim/report "io;identify;analysis;diagnose;operator_fit;paper;hil;stats;plant;estimator;firmware;hal;sim")
 set(allowed_host_sim/app "io;plant;stats;sim;identify;paper;analysis;diagnose;operator_fit;hil;report;estimator;firmware;hal")
 set(folders estimator hal firmware host_sim/io host_sim/plant host_sim/stats host_sim/sim host_sim/identify host_sim/paper

@@ -166,7 +166,7 @@ extern "C" void NMI_Handler() {
 extern "C" void Default_Handler() {
   using namespace lashid::hal::mps2;
   Text<64> t;
-  t << "\nlashid: unexpected exception " << static_cast<std::uint32_t>(detail::reg(detail::kIcsr) & 0x1FFU) << "\n";
+  t << "\nlashid: unexpected exception " << (detail::reg(detail::kIcsr) & 0x1FFU) << "\n";
   say(t.c_str());
   semihosting::exit(kExitUnexpectedIrq);
 }
@@ -239,15 +239,15 @@ std::uint32_t fp_features() {
 }
 
 std::size_t stack_size_bytes() {
-  return static_cast<std::size_t>(reinterpret_cast<std::uintptr_t>(__stack_top) -
-                                  reinterpret_cast<std::uintptr_t>(__stack_limit));
+  // uintptr_t and size_t are both `unsigned int` on the Cortex-M ABI (a cast is a -Wuseless-cast error there).
+  return reinterpret_cast<std::uintptr_t>(__stack_top) - reinterpret_cast<std::uintptr_t>(__stack_limit);
 }
 
 std::size_t stack_high_water_bytes() {
   const volatile std::uint32_t* p = __stack_limit;
   const volatile std::uint32_t* const top = __stack_top;
   while (p < top && *p == kStackPaint) ++p;
-  return static_cast<std::size_t>(reinterpret_cast<std::uintptr_t>(__stack_top) - reinterpret_cast<std::uintptr_t>(p));
+  return reinterpret_cast<std::uintptr_t>(__stack_top) - reinterpret_cast<std::uintptr_t>(p);
 }
 
 void finish(int code) {

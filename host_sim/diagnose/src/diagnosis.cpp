@@ -240,15 +240,11 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
     d.val_end = t + 1;
   }
 
-  // The paper's estimates per scheme, and their disagreement on A (Remark 3b).
+  // The paper's estimates per scheme, and their disagreement on A and B (Remark 3b, as the firmware reports it).
   d.dis = identify_scheme(config, recording, est::Scheme::kDescending, {}, data_name);
   d.ais = identify_scheme(config, recording, est::Scheme::kAscending, {}, data_name);
   if (d.dis.status == est::Status::kOk && d.ais.status == est::Status::kOk) {
-    for (int i = 0; i < config.n; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      const double se = std::hypot(d.dis.theta_std_error[k], d.ais.theta_std_error[k]);
-      d.remark3b_z = std::max(d.remark3b_z, std::abs(d.dis.a[k] - d.ais.a[k]) / se);
-    }
+    d.remark3b_z = cross_check(config, d.dis, d.ais).max_z;
   }
 
   ModelStructure nominal_structure;

@@ -110,11 +110,12 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
                             outside_band(id.cross_correlation, -kResidualLags, kResidualLags, id.band)));
   }
   if (d.remark3b_z > 4) {
-    f.push_back(fmt::format("DIS and AIS disagree on A(q^-1) by {:.1f} standard errors (Remark 3b): the plant is not "
-                            "the assumed operator followed by the assumed linear block.",
+    f.push_back(fmt::format("DIS and AIS disagree on A(q^-1), B(q^-1) by {:.1f} standard errors (Remark 3b): the "
+                            "plant is not the assumed operator followed by the assumed linear block.",
                             d.remark3b_z));
   } else {
-    f.push_back(fmt::format("DIS and AIS agree on A(q^-1) (largest difference {:.1f} standard errors, Remark 3b).",
+    f.push_back(fmt::format("DIS and AIS agree on A(q^-1), B(q^-1) (largest difference {:.1f} standard errors, "
+                            "Remark 3b).",
                             d.remark3b_z));
   }
   if (id.trend.p_value < 1e-4) {

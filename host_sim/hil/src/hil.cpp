@@ -17,11 +17,10 @@
 
 #include <fmt/format.h>
 
-#include "lashid/firmware/paper_configs.hpp"
-#include "lashid/firmware/sequencer.hpp"
-#include "lashid/hal/host_board.hpp"
 #include "lashid/hal/link_protocol.hpp"
+#include "lashid/hil/qemu_args.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "reports.hpp"
 
 extern char** environ;
 
@@ -32,33 +31,6 @@ namespace link = hal::link;
 
 [[noreturn]] void fail(const std::string& what) {
   throw std::runtime_error(fmt::format("hil: {}: {}", what, std::strerror(errno)));
-}
-
-// Stores one report frame of the firmware in `result`.
-void collect(const link::Frame& f, HilResult& result) {
-  switch (f.type) {
-    case link::MessageType::kEstimate: {
-      fw::EstimateRecord e;
-      if (e.decode(f.reader())) {
-        result.estimates.push_back(e);
-      } else {
-        ++result.protocol_errors;
-      }
-      break;
-    }
-    case link::MessageType::kCrossCheck: {
-      fw::CrossCheckRecord c;
-      if (c.decode(f.reader())) result.cross_check = c; else ++result.protocol_errors;
-      break;
-    }
-    case link::MessageType::kCost: {
-      fw::CostRecord c;
-      if (c.decode(f.reader())) result.cost = c; else ++result.protocol_errors;
-      break;
-    }
-    case link::MessageType::kDone: result.done = f.size == 1 ? f.payload[0] : -1; break;
-    default: break;
-  }
 }
 
 std::vector<std::uint8_t> frame(link::MessageType type, const link::PayloadWriter& w) {
@@ -189,15 +161,15 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
                 int& plant_fd, int& out_fd) {
   UnixListener link_listener(dir / "link.sock");
   UnixListener plant_listener(dir / "plant.sock");
-  std::vector<std::string> args{options.qemu, "-machine", options.machine, "-nographic", "-monitor", "none",
-                                "-serial", "unix:" + (dir / "link.sock").string(),
-                                "-serial", "unix:" + (dir / "plant.sock").string(),
-                                "-semihosting-config", "enable=on,target=native", "-kernel", options.firmware};
-  if (options.icount) {
-    // Deterministic virtual time (1 instruction = 1 ns): SysTick counts instructions / 40. QEMU then services the
-    // UARTs only between long runs of the vCPU, which makes every exchange slow.
-    args.insert(args.end() - 2, {"-icount", "shift=0"});
-  }
+  QemuCommand command;
+  command.qemu = options.qemu;
+  command.machine = options.machine;
+  command.serials = {"unix:" + (dir / "link.sock").string(), "unix:" + (dir / "plant.sock").string()};
+  // Deterministic virtual time (1 instruction = 1 ns) only on request: QEMU then services the UARTs only between
+  // long runs of the vCPU, which makes every exchange slow.
+  command.icount = options.icount;
+  command.kernel = options.firmware;
+  std::vector<std::string> args = qemu_command_line(command);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -222,7 +194,7 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
 void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, HilResult& result) {
   for (std::size_t i = 0; i < size; ++i) {
     const auto r = decoder.push(data[i]);
-    if (r == link::FrameDecoder::Result::kFrame) collect(decoder.frame(), result);
+    if (r == link::FrameDecoder::Result::kFrame) detail::collect(decoder.frame(), result);
     if (r == link::FrameDecoder::Result::kDropped) ++result.protocol_errors;
   }
 }
@@ -292,30 +264,13 @@ void run_session(const HilOptions& options, const Scenario& scenario, pid_t& qem
 
 }  // namespace
 
-ScenarioBoard make_scenario_board(const Scenario& scenario, std::uint64_t seed) {
-  return ScenarioBoard(ScenarioPlant(scenario, seed), static_cast<float>(scenario.config.v_min),
-                       static_cast<float>(scenario.config.v_max));
-}
-
-HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed) {
-  const Scenario& scenario = find_scenario(scenario_name);
-  ScenarioBoard board = make_scenario_board(scenario, seed);
-  HilResult result;
-  if (scenario_name == "dis_paper") {
-    fw::IdentificationSequencer<ScenarioBoard, fw::DisPaperConfig> firmware(board);
-    result.done = static_cast<int>(firmware.run());
-  } else if (scenario_name == "ais_paper") {
-    fw::IdentificationSequencer<ScenarioBoard, fw::AisPaperConfig> firmware(board);
-    result.done = static_cast<int>(firmware.run());
-  } else {
-    throw std::invalid_argument("hil: no firmware configuration for scenario '" + scenario_name + "'");
-  }
-  link::FrameDecoder decoder;
-  for (std::uint8_t b : board.link_output()) {
-    if (decoder.push(b) == link::FrameDecoder::Result::kFrame) collect(decoder.frame(), result);
-  }
-  result.samples = static_cast<std::uint32_t>(board.exchanges().size());
-  return result;
+std::vector<std::string> qemu_command_line(const QemuCommand& command) {
+  std::vector<std::string> args{command.qemu, "-machine", command.machine};
+  args.insert(args.end(), kQemuCommonArgs.begin(), kQemuCommonArgs.end());
+  if (command.icount) args.insert(args.end(), kQemuIcountArgs.begin(), kQemuIcountArgs.end());
+  for (const std::string& serial : command.serials) args.insert(args.end(), {"-serial", serial});
+  args.insert(args.end(), {"-kernel", command.kernel});
+  return args;
 }
 
 HilResult run_hil(const HilOptions& options) {
@@ -327,6 +282,7 @@ HilResult run_hil(const HilOptions& options) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
   }
   const Scenario& scenario = find_scenario(options.scenario);
+  (void)firmware_config_of(scenario);  // the plant played must have the design the firmware was built for
   char dir_template[] = "/tmp/lashid-hil-XXXXXX";
   if (::mkdtemp(dir_template) == nullptr) fail("mkdtemp");
   const std::filesystem::path dir(dir_template);

@@ -21,15 +21,6 @@ std::optional<double> at(const std::optional<Truth>& t, const std::vector<double
 
 }  // namespace
 
-double relative_difference(std::span<const double> x, std::span<const double> ref) {
-  double num = 0, den = 0;
-  for (std::size_t k = 0; k < ref.size(); ++k) {
-    num += (x[k] - ref[k]) * (x[k] - ref[k]);
-    den += ref[k] * ref[k];
-  }
-  return std::sqrt(num / den);
-}
-
 void print_scheme_result(const ExperimentConfig& config, const SchemeResult& r) {
   const bool dis = r.scheme == est::Scheme::kDescending;
   fmt::print("{} ({} border): n = {}, m = {}; {} step + {} pulse samples, {} regression rows; status: {}\n",

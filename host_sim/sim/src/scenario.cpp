@@ -3,13 +3,30 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "lashid/estimator/design.hpp"
+#include "lashid/estimator/excitation.hpp"
+#include "lashid/estimator/paper_designs.hpp"
 
 namespace lashid::sim {
 namespace {
+
+// The experiment design of one of the paper's examples (est::paper, shared with the firmware's configurations).
+template <std::size_t M>
+void apply_design(Scenario& s, const est::paper::Design<double, M>& d) {
+  s.config.n = d.n;
+  s.config.m = d.m;
+  s.config.v_min = d.v_min;
+  s.config.v_max = d.v_max;
+  s.config.V_d.assign(d.V_d.begin(), d.V_d.end());
+  s.config.V_a.assign(d.V_a.begin(), d.V_a.end());
+  s.step_length_d = s.step_length_a = d.step_length;
+  s.pulse_length_d = d.pulse_length_d;
+  s.pulse_length_a = d.pulse_length_a;
+}
 
 // Section 3.5: A = 1 + q^-1 + 0.21 q^-2, B_init = q^-1 + 0.5 q^-2 scaled by K = u_M - u_m = 70.5. Table 1 prints
 // b2 = +35.25, but (3.33)'s mu_21 = -5.04 = b2 c_1 = b2 / 7 and Table 3's b2 = -35.3 both need b2 = -35.25.
@@ -26,14 +43,7 @@ Scenario dis_paper() {
     return std::make_unique<BacklashOperator>(Border::from_function(C_a, -3.0, 4.0),
                                               Border::from_function(C_d, -3.0, 4.0));
   };
-  s.config.n = 2;
-  s.config.m = 6;
-  s.config.v_min = -3.0;
-  s.config.v_max = 4.0;
-  s.config.V_d = {-3, -2, -1, 1, 2, 3};
-  // Not in the paper (it ran only the DIS on this plant); symmetric to V_d. Note: Table 5's mislabelled first
-  // row reads exactly these abscissas.
-  s.config.V_a = {4, 3, 2, 1, -1, -2};
+  apply_design(s, est::paper::kDisPaper<double>);
   s.config.op = OperatorKind::kBacklash;
   s.initial_output = 0.875 / 70.5;  // C_d(v_min)
   return s;
@@ -56,30 +66,59 @@ Scenario ais_paper() {
     return std::make_unique<SwitchOperator>(Border::from_function(C_a, -2.0, 2.0),
                                             Border::from_function(C_d, -2.0, 2.0));
   };
-  s.config.n = 2;
-  s.config.m = 6;
-  s.config.v_min = -2.0;
-  s.config.v_max = 2.0;
-  s.config.V_a = {2, 1.5, 1, 0, -0.5, -1};  // Table 5's true values sit at these abscissas (its first row does not)
-  s.config.V_d = {-2, -1.5, -1, 0, 0.5, 1};  // not in the paper; symmetric to V_a
+  apply_design(s, est::paper::kAisPaper<double>);
   s.config.op = OperatorKind::kSwitch;
   s.initial_output = std::log(3.0) / K;  // C_d(v_min)
-  s.pulse_length_a = 8000;
-  s.pulse_length_d = 8000;
   return s;
 }
 
-double step_level(bool descending, const ExperimentConfig& c, std::int64_t t) {
-  // (3.4): v_m at t = 0 then v_M; (4.1): v_M at t = 0 then v_m.
-  if (descending) return t == 0 ? c.v_min : c.v_max;
-  return t == 0 ? c.v_max : c.v_min;
+enum class Experiment : std::uint8_t { kStep, kPulse };
+
+// v(0..length-1) of one experiment of one scheme, from the estimator's own generator (est::ExcitationGenerator, the
+// one the firmware runs): (3.4)/(4.1) for the step experiments, (3.1)/(4.2) with the schedule (3.25) for the pulses.
+template <int N, int M>
+std::vector<double> generate(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
+                             std::int64_t length) {
+  est::ExperimentDesign<double, M> design;
+  design.scheme = scheme;
+  design.v_min = c.v_min;
+  design.v_max = c.v_max;
+  const std::vector<double>& V = scheme == est::Scheme::kDescending ? c.V_d : c.V_a;
+  for (int j = 0; j < M; ++j) design.V(j) = V.at(static_cast<std::size_t>(j));
+  const est::ExcitationGenerator<double, N, M> generator(design);
+  std::vector<double> v(static_cast<std::size_t>(length));
+  for (std::int64_t t = 0; t < length; ++t) {
+    v[static_cast<std::size_t>(t)] = experiment == Experiment::kStep ? generator.step_input(t)
+                                                                      : generator.pulse_input(t);
+  }
+  return v;
 }
 
-double pulse_level(bool descending, const ExperimentConfig& c, std::int64_t t) {
-  const int j = est::schedule::pulse_at(c.n, c.m, t);
-  const auto& V = descending ? c.V_d : c.V_a;
-  if (j == 0) return descending ? c.v_max : c.v_min;
-  return V[static_cast<std::size_t>(j - 1)];
+// The generator is compiled for fixed (N, M); the scenario's n, m are runtime values in [1, kMaxOrder] x
+// [1, kMaxPoints], the range a config may hold.
+template <int N, int... Ms>
+std::vector<double> generate_points(std::integer_sequence<int, Ms...>, const ExperimentConfig& c, est::Scheme scheme,
+                                    Experiment experiment, std::int64_t length) {
+  std::vector<double> v;
+  const bool found = ((c.m == Ms + 1 ? (v = generate<N, Ms + 1>(c, scheme, experiment, length), true) : false) || ...);
+  if (!found) throw std::invalid_argument(fmt::format("m = {} is outside [1, {}]", c.m, kMaxPoints));
+  return v;
+}
+
+template <int... Ns>
+std::vector<double> generate_orders(std::integer_sequence<int, Ns...>, const ExperimentConfig& c, est::Scheme scheme,
+                                    Experiment experiment, std::int64_t length) {
+  std::vector<double> v;
+  const auto points = std::make_integer_sequence<int, kMaxPoints>{};
+  const bool found =
+      ((c.n == Ns + 1 ? (v = generate_points<Ns + 1>(points, c, scheme, experiment, length), true) : false) || ...);
+  if (!found) throw std::invalid_argument(fmt::format("n = {} is outside [1, {}]", c.n, kMaxOrder));
+  return v;
+}
+
+std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
+                               std::int64_t length) {
+  return generate_orders(std::make_integer_sequence<int, kMaxOrder>{}, c, scheme, experiment, length);
 }
 
 }  // namespace
@@ -133,13 +172,20 @@ Recording simulate(const Scenario& scenario, const SimulationOptions& options) {
       rec.append(phase, v, plant.step(v));
     }
   };
+  const auto scheme_phases = [&](est::Scheme scheme, Phase step, std::int64_t step_length, Phase pulse,
+                                  std::int64_t pulse_length) {
+    const std::vector<double> v_step = excitation(c, scheme, Experiment::kStep, step_length + 1);
+    run(step, step_length + 1, [&](std::int64_t t) { return v_step[static_cast<std::size_t>(t)]; });
+    const std::vector<double> v_pulse = excitation(c, scheme, Experiment::kPulse, pulse_length);
+    run(pulse, pulse_length, [&](std::int64_t t) { return v_pulse[static_cast<std::size_t>(t)]; });
+  };
   if (options.dis_phases) {
-    run(Phase::kStepD, scenario.step_length_d + 1, [&](std::int64_t t) { return step_level(true, c, t); });
-    run(Phase::kDis, scenario.pulse_length_d, [&](std::int64_t t) { return pulse_level(true, c, t); });
+    scheme_phases(est::Scheme::kDescending, Phase::kStepD, scenario.step_length_d, Phase::kDis,
+                  scenario.pulse_length_d);
   }
   if (options.ais_phases) {
-    run(Phase::kStepA, scenario.step_length_a + 1, [&](std::int64_t t) { return step_level(false, c, t); });
-    run(Phase::kAis, scenario.pulse_length_a, [&](std::int64_t t) { return pulse_level(false, c, t); });
+    scheme_phases(est::Scheme::kAscending, Phase::kStepA, scenario.step_length_a, Phase::kAis,
+                  scenario.pulse_length_a);
   }
   if (options.validation_phase) {
     const auto v = options.validation_input.empty()
@@ -159,13 +205,15 @@ Truth scenario_truth(const Scenario& scenario) {
 
   // Replays one scheme's inputs on the operator alone; returns F(V_j) and the held output.
   const auto replay = [&](bool descending, const std::vector<double>& V, double& held) {
+    const est::Scheme scheme = descending ? est::Scheme::kDescending : est::Scheme::kAscending;
     auto op = scenario.make_operator();
     op->reset(c.v_min, scenario.initial_output);
-    for (std::int64_t t = 0; t <= 2; ++t) held = op->step(step_level(descending, c, t));
+    for (const double v : excitation(c, scheme, Experiment::kStep, 3)) held = op->step(v);
     std::vector<double> F(V.size(), 0.0);
     const int T = est::schedule::period(c.n, c.m);
+    const std::vector<double> pulses = excitation(c, scheme, Experiment::kPulse, 2 * T);
     for (std::int64_t t = 0; t < 2 * T; ++t) {
-      const double u = op->step(pulse_level(descending, c, t));
+      const double u = op->step(pulses[static_cast<std::size_t>(t)]);
       const int j = est::schedule::pulse_at(c.n, c.m, t);
       if (t >= T && j > 0) F[static_cast<std::size_t>(j - 1)] = u;
     }

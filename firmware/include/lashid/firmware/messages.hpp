@@ -3,8 +3,10 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
+#include "lashid/estimator/design.hpp"
 #include "lashid/hal/link_protocol.hpp"
 
 namespace lashid::fw {
@@ -24,6 +26,21 @@ enum class Stage : std::uint8_t {
   kDone,
 };
 
+/// Freestanding (no heap): a string literal, for the host's printing and the tests.
+constexpr const char* to_string(Stage s) {
+  switch (s) {
+    case Stage::kIdle: return "idle";
+    case Stage::kIntervalCheck: return "interval check";
+    case Stage::kStepD: return "DIS step experiment";
+    case Stage::kPulseD: return "DP pulse experiment";
+    case Stage::kStepA: return "AIS step experiment";
+    case Stage::kPulseA: return "AP pulse experiment";
+    case Stage::kReport: return "report";
+    case Stage::kDone: return "done";
+  }
+  return "unknown stage";
+}
+
 /// Overall result of a run (kDone payload).
 enum class RunStatus : std::uint8_t {
   kOk = 0,
@@ -34,9 +51,32 @@ enum class RunStatus : std::uint8_t {
   kStopped,            ///< stopped by command
 };
 
+constexpr const char* to_string(RunStatus s) {
+  switch (s) {
+    case RunStatus::kOk: return "ok";
+    case RunStatus::kIntervalTooNarrow: return "interval too narrow";
+    case RunStatus::kActuatorFault: return "actuator fault";
+    case RunStatus::kSensorFault: return "sensor fault";
+    case RunStatus::kEstimatorFailed: return "estimator failed";
+    case RunStatus::kStopped: return "stopped";
+  }
+  return "unknown";
+}
+
+/// The scheme of an EstimateRecord on the wire: one byte, est::Scheme's value (0 = DIS, 1 = AIS).
+constexpr bool valid_scheme_byte(std::uint8_t b) {
+  return b == static_cast<std::uint8_t>(est::Scheme::kDescending) ||
+         b == static_cast<std::uint8_t>(est::Scheme::kAscending);
+}
+
 /// One scheme's estimate (kEstimate). Arrays hold n (a, b and their standard errors) and m (F) entries.
 struct EstimateRecord {
-  std::uint8_t scheme = 0;  ///< 0 = DIS, 1 = AIS
+  /// Payload bytes for orders n, m: scheme, status, n, m (u8), ybar0, noise variance, 4 n + m floats.
+  static constexpr std::size_t encoded_size(int n, int m) {
+    return 4 + 4 * (2 + 4 * static_cast<std::size_t>(n) + static_cast<std::size_t>(m));
+  }
+
+  est::Scheme scheme = est::Scheme::kDescending;  ///< one byte on the wire (valid_scheme_byte)
   std::uint8_t status = 0;  ///< est::Status
   std::uint8_t n = 0;
   std::uint8_t m = 0;
@@ -46,7 +86,7 @@ struct EstimateRecord {
   std::array<float, kMaxRecordPoints> F{};
 
   void encode(hal::link::PayloadWriter& w) const {
-    w.u8(scheme);
+    w.u8(static_cast<std::uint8_t>(scheme));
     w.u8(status);
     w.u8(n);
     w.u8(m);
@@ -63,11 +103,12 @@ struct EstimateRecord {
   }
 
   bool decode(hal::link::PayloadReader r) {
-    scheme = r.u8();
+    const std::uint8_t scheme_byte = r.u8();
     status = r.u8();
     n = r.u8();
     m = r.u8();
-    if (n > kMaxRecordOrder || m > kMaxRecordPoints) return false;
+    if (!valid_scheme_byte(scheme_byte) || n > kMaxRecordOrder || m > kMaxRecordPoints) return false;
+    scheme = static_cast<est::Scheme>(scheme_byte);
     ybar0 = r.f32();
     noise_variance = r.f32();
     for (int i = 0; i < n; ++i) {
@@ -85,6 +126,7 @@ struct EstimateRecord {
 /// Remark 3b (kCrossCheck): the DIS and AIS estimate the same linear subsystem; a disagreement beyond their
 /// uncertainty means the nonlinearity is not the assumed switch/backlash.
 struct CrossCheckRecord {
+  static constexpr std::size_t kEncodedSize = 2 + 2 * 4;
   std::uint8_t disagree = 0;   ///< 1 if max_z exceeds the configured threshold
   std::uint8_t worst = 0;      ///< index of the worst parameter: 0..n-1 = a_i, n..2n-1 = b_i
   float max_z = 0;             ///< max |x_dis - x_ais| / sqrt(se_dis^2 + se_ais^2) over a and b
@@ -105,8 +147,9 @@ struct CrossCheckRecord {
   }
 };
 
-/// Footprint and cost (kCost), in board cycles (SysTick on Cortex-M).
+/// Footprint and cost (kCost), in board cycles (SysTick on Cortex-M), and what went wrong without ending the run.
 struct CostRecord {
+  static constexpr std::size_t kEncodedSize = 10 * 4;
   std::uint32_t update_cycles = 0;  ///< total over all estimator updates (add_pulse_sample)
   std::uint32_t updates = 0;
   std::uint32_t solve_cycles = 0;   ///< total over all estimate() calls (once per pulse period)
@@ -115,17 +158,27 @@ struct CostRecord {
   std::uint32_t link_errors = 0;    ///< frames dropped (checksum/length) or stale, on either port
   std::uint32_t retries = 0;        ///< actuator/sensor exchanges repeated after a loss
   std::uint32_t stack_bytes = 0;    ///< stack high-water mark (0 where the board cannot tell)
+  /// Step and pulse samples the estimator refused (non-ok status: non-finite, off the design); they are not in
+  /// the estimate, which stays the least squares on the samples used.
+  std::uint32_t rejected_samples = 0;
+  /// Reports not sent because their payload did not fit a frame (the records before this one; none can, by the
+  /// sequencer's static_asserts, so anything but 0 is a defect).
+  std::uint32_t send_failures = 0;
 
   void encode(hal::link::PayloadWriter& w) const {
-    for (std::uint32_t x : {update_cycles, updates, solve_cycles, solves, samples, link_errors, retries, stack_bytes})
+    for (std::uint32_t x : {update_cycles, updates, solve_cycles, solves, samples, link_errors, retries, stack_bytes,
+                            rejected_samples, send_failures})
       w.u32(x);
   }
   bool decode(hal::link::PayloadReader r) {
     for (std::uint32_t* x : {&update_cycles, &updates, &solve_cycles, &solves, &samples, &link_errors, &retries,
-                             &stack_bytes})
+                             &stack_bytes, &rejected_samples, &send_failures})
       *x = r.u32();
     return r.ok() && r.at_end();
   }
 };
+
+static_assert(CrossCheckRecord::kEncodedSize <= hal::link::kMaxPayload);
+static_assert(CostRecord::kEncodedSize <= hal::link::kMaxPayload);
 
 }  // namespace lashid::fw

@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
+#include "lashid/estimator/cross_check.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/firmware/config.hpp"
@@ -23,6 +25,12 @@ namespace lashid::fw {
 template <hal::Board B, FirmwareConfig C>
 class IdentificationSequencer {
   static_assert(design_rules_hold<C>(), "the firmware configuration violates the paper's design rules");
+  // Every report must fit one frame at this configuration's orders: the estimate is the only variable-size one
+  // (n = 8, m = 16 would need 204 bytes).
+  static_assert(C::kOrder <= kMaxRecordOrder && C::kPoints <= kMaxRecordPoints,
+                "the configuration's orders exceed EstimateRecord's arrays");
+  static_assert(EstimateRecord::encoded_size(C::kOrder, C::kPoints) <= hal::link::kMaxPayload,
+                "an EstimateRecord of this configuration does not fit the link's frame (hal::link::kMaxPayload)");
 
  public:
   static constexpr int N = C::kOrder;
@@ -147,7 +155,8 @@ class IdentificationSequencer {
     const float v = generator_.step_input(t_);
     float y = 0;
     if (!exchange(v, y)) return true;
-    (void)identifier_.add_step_sample(v, y);  // on the design by construction; a NaN y is reported by estimate()
+    // On the design by construction; a non-finite y is left out of the mean, and counted.
+    if (identifier_.add_step_sample(v, y) != est::Status::kOk) ++cost_.rejected_samples;
     if (++t_ > C::kStepLength) enter(stage_ == Stage::kStepD ? Stage::kPulseD : Stage::kPulseA);
     return true;
   }
@@ -157,9 +166,10 @@ class IdentificationSequencer {
     float y = 0;
     if (!exchange(v, y)) return true;
     const std::uint32_t start = board_.cycles();
-    (void)identifier_.add_pulse_sample(v, y);
+    const est::Status update = identifier_.add_pulse_sample(v, y);
     cost_.update_cycles += board_.cycles() - start;
     ++cost_.updates;
+    if (update != est::Status::kOk) ++cost_.rejected_samples;  // a row left out of the least squares
     ++t_;
     const bool dis = stage_ == Stage::kPulseD;
     // Indexed, not `dis ? D : A`: configs with equal lengths would make the branches identical.
@@ -183,33 +193,7 @@ class IdentificationSequencer {
     return true;
   }
 
-  /// se(b_i) = |W_1| se(mu_i1) by (3.22a) / Remark 3a, and |W_1| = v_M - v_m in both schemes.
-  static float se_b(const Estimate& e, int i) { return (C::kVMax - C::kVMin) * e.ls.std_error(N + i); }
-
-  // Remark 3b: both schemes estimate a and b; compare them in units of their combined standard error.
-  void compute_cross_check() {
-    cross_.threshold = C::kCrossCheckSigmas;
-    if (dis_.status != est::Status::kOk || ais_.status != est::Status::kOk) {
-      cross_.max_z = -1.0f;  // not available
-      return;
-    }
-    for (int k = 0; k < 2 * N; ++k) {
-      const bool is_a = k < N;
-      const int i = is_a ? k : k - N;
-      const float xd = is_a ? dis_.a(i) : dis_.b(i);
-      const float xa = is_a ? ais_.a(i) : ais_.b(i);
-      const float sd = is_a ? dis_.ls.std_error(i) : se_b(dis_, i);
-      const float sa = is_a ? ais_.ls.std_error(i) : se_b(ais_, i);
-      const float z = std::fabs(xd - xa) / std::sqrt(sd * sd + sa * sa);
-      if (z > cross_.max_z) {
-        cross_.max_z = z;
-        cross_.worst = static_cast<std::uint8_t>(k);
-      }
-    }
-    cross_.disagree = cross_.max_z > cross_.threshold ? 1 : 0;
-  }
-
-  static EstimateRecord record(const Estimate& e, std::uint8_t scheme) {
+  static EstimateRecord record(const Estimate& e, est::Scheme scheme) {
     EstimateRecord r;
     r.scheme = scheme;
     r.status = static_cast<std::uint8_t>(e.status);
@@ -222,14 +206,34 @@ class IdentificationSequencer {
       r.a[k] = e.a(i);
       r.se_a[k] = e.ls.std_error(i);
       r.b[k] = e.b(i);
-      r.se_b[k] = se_b(e, i);
+      r.se_b[k] = est::b_std_error(e.ls.std_error(N + i), C::kVMin, C::kVMax);
     }
     for (int j = 0; j < M; ++j) r.F[static_cast<std::size_t>(j)] = e.F(j);
     return r;
   }
 
+  static est::LinearEstimate<float> linear_part(const EstimateRecord& r) {
+    return {std::span<const float>(r.a.data(), N), std::span<const float>(r.se_a.data(), N),
+            std::span<const float>(r.b.data(), N), std::span<const float>(r.se_b.data(), N)};
+  }
+
+  // Remark 3b on the reported a, b and standard errors; not available unless both schemes succeeded.
+  void compute_cross_check(const EstimateRecord& dis, const EstimateRecord& ais) {
+    cross_.threshold = C::kCrossCheckSigmas;
+    if (dis_.status != est::Status::kOk || ais_.status != est::Status::kOk) {
+      cross_.max_z = -1.0f;
+      return;
+    }
+    const est::CrossCheck<float> c = est::cross_check(linear_part(dis), linear_part(ais));
+    cross_.max_z = c.max_z;
+    cross_.worst = static_cast<std::uint8_t>(c.worst);
+    cross_.disagree = cross_.max_z > cross_.threshold ? 1 : 0;
+  }
+
   void report() {
-    compute_cross_check();
+    const EstimateRecord dis = record(dis_, est::Scheme::kDescending);
+    const EstimateRecord ais = record(ais_, est::Scheme::kAscending);
+    compute_cross_check(dis, ais);
     // Optional board extensions (a board that cannot tell simply lacks the member).
     if constexpr (requires { board_.stack_high_water_bytes(); }) {
       cost_.stack_bytes = static_cast<std::uint32_t>(board_.stack_high_water_bytes());
@@ -240,10 +244,10 @@ class IdentificationSequencer {
     }
     // Both records always go out; a scheme that never ran reports status kNotExcited.
     hal::link::PayloadWriter w;
-    record(dis_, 0).encode(w);
+    dis.encode(w);
     send(hal::link::MessageType::kEstimate, w);
     hal::link::PayloadWriter wa;
-    record(ais_, 1).encode(wa);
+    ais.encode(wa);
     send(hal::link::MessageType::kEstimate, wa);
     hal::link::PayloadWriter wc;
     cross_.encode(wc);
@@ -257,7 +261,13 @@ class IdentificationSequencer {
     stage_ = Stage::kDone;
   }
 
+  /// A payload that overflowed the writer is truncated: it is not sent (the host would decode garbage or reject
+  /// it), and it is counted. The static_asserts above make this unreachable for the configuration's records.
   void send(hal::link::MessageType type, const hal::link::PayloadWriter& w) {
+    if (!w.ok()) {
+      ++cost_.send_failures;
+      return;
+    }
     std::uint8_t frame[hal::link::kMaxFrame];
     const std::size_t size = hal::link::encode_frame(type, seq_++, w.data(), w.size(), frame);
     if (size == 0 || board_.link_write(frame, size) != hal::Status::kOk) ++cost_.link_errors;

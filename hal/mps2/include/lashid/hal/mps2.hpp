@@ -207,7 +207,7 @@ class Text {
   Text& operator<<(std::int32_t v) {
     if (v < 0) {
       put('-');
-      return *this << static_cast<std::uint32_t>(0U - static_cast<std::uint32_t>(v));
+      return *this << (0U - static_cast<std::uint32_t>(v));  // unsigned: |INT32_MIN| without overflow
     }
     return *this << static_cast<std::uint32_t>(v);
   }

@@ -60,7 +60,7 @@ struct Diagnosis {
   double fit_nominal = 0, fit_extended = 0;  ///< 100 (1 - ||y - y_sim|| / ||y - mean y||) on val
   ResidualAnalysis identification, validation;  ///< nominal model's one-step residuals
   SchemeResult dis, ais;                        ///< the paper's per-scheme estimates
-  double remark3b_z = 0;  ///< max_i |a_i(DIS) - a_i(AIS)| / sqrt(se^2 + se^2) (Remark 3b)
+  double remark3b_z = 0;  ///< max over a_i, b_i of |x(DIS) - x(AIS)| / sqrt(se^2 + se^2) (Remark 3b, est::cross_check)
   std::vector<CandidateCause> candidates;
   std::vector<std::string> findings;  ///< what the simulation gets wrong, in words
   std::size_t val_begin = 0, val_end = 0;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lashid/firmware/messages.hpp"
@@ -43,8 +44,27 @@ struct HilResult {
   std::string console;                ///< what the firmware printed (semihosting)
 };
 
+/// A qemu-system-arm command line for an mps2 image: the machine, the project's machine-independent flags
+/// (cmake/Qemu.cmake: -nographic -monitor none -semihosting-config ...), -icount shift=0 on request, one -serial per
+/// UART in order (UART0, UART1, ...), and the image.
+struct QemuCommand {
+  std::string qemu = "qemu-system-arm";
+  std::string machine = "mps2-an386";
+  std::vector<std::string> serials;  ///< QEMU -serial backends: "unix:PATH", "null", "stdio", ...
+  bool icount = false;
+  std::string kernel;                ///< the image (ELF)
+};
+/// The program followed by its arguments.
+std::vector<std::string> qemu_command_line(const QemuCommand& command);
+
+/// The firmware configuration (firmware/paper_configs.hpp) built for `scenario`'s plant, e.g. "DisPaperConfig".
+/// Throws std::invalid_argument when there is none, or when the scenario's design (n, m, interval, abscissas,
+/// lengths) differs from the configuration's: the firmware would run other experiments than the host plays.
+std::string_view firmware_config_of(const Scenario& scenario);
+
 /// Runs QEMU with the firmware and plays the scenario's plant. Throws std::runtime_error when QEMU cannot be
-/// started, a socket fails, or the time limit is exceeded.
+/// started, a socket fails, or the time limit is exceeded; std::invalid_argument when the scenario has no firmware
+/// configuration of the same design (firmware_config_of).
 HilResult run_hil(const HilOptions& options);
 
 /// The firmware's board on the PC with a scenario's plant in-process: the same plant `lashid hil` plays over the

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "lashid/estimator/cross_check.hpp"
 #include "lashid/estimator/design.hpp"
 #include "lashid/estimator/status.hpp"
 #include "lashid/io/config.hpp"
@@ -43,6 +44,11 @@ struct SchemeResult {
 /// Numerical failure (ill-conditioning, degenerate gain) is not thrown: it is the result's status.
 SchemeResult identify_scheme(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
                              const IdentifyOptions& options, std::string_view data_name);
+
+/// Remark 3b on the two schemes' results of one recording: est::cross_check over a and b, with se(a_i) and
+/// se(mu_i1) from the results' theta_std_error and se(b_i) = (v_M - v_m) se(mu_i1). Status kNotExcited when a
+/// result has no standard errors (its scheme failed).
+est::CrossCheck<double> cross_check(const ExperimentConfig& config, const SchemeResult& dis, const SchemeResult& ais);
 
 /// Supported orders of the runtime dispatch (the compiled instantiations).
 inline constexpr int kDispatchMaxOrder = kMaxOrder;

@@ -1,0 +1,77 @@
+// What makes a host-in-the-loop run a pass: the firmware's kDone says ok, QEMU exited with 0, both schemes' estimates
+// arrived and are usable, and (on request) they equal the host build's and every damaged frame was caught. The
+// `lashid hil` command prints the verdict and writes it as JSON; the rules live here.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lashid/firmware/messages.hpp"
+#include "lashid/hil/hil.hpp"
+
+namespace lashid::sim {
+
+enum class HilFailure : std::uint8_t {
+  kNoDoneReport,         ///< no kDone frame arrived (lost, or the firmware never finished)
+  kRunFailed,            ///< kDone carries a RunStatus other than kOk
+  kQemuExit,             ///< QEMU exited with a non-zero status (the firmware's exit code)
+  kEstimateMissing,      ///< no DIS or no AIS kEstimate arrived (e.g. both frames lost)
+  kEstimateEmpty,        ///< an estimate reports n = 0 or m = 0: nothing to compare or print
+  kDifferentFromHost,    ///< --compare-host: estimates or sample counts differ from the host board's
+  kDamagedFramesMissed,  ///< --corrupt-every: a damaged frame was not detected and re-requested
+};
+
+constexpr const char* to_string(HilFailure f) {
+  switch (f) {
+    case HilFailure::kNoDoneReport: return "no kDone report";
+    case HilFailure::kRunFailed: return "the firmware's run failed";
+    case HilFailure::kQemuExit: return "QEMU exited with an error";
+    case HilFailure::kEstimateMissing: return "an estimate is missing";
+    case HilFailure::kEstimateEmpty: return "an estimate is empty (n = 0 or m = 0)";
+    case HilFailure::kDifferentFromHost: return "different from the host build";
+    case HilFailure::kDamagedFramesMissed: return "damaged frames not all detected";
+  }
+  return "unknown failure";
+}
+
+/// The QEMU run against the same firmware on the in-process host board (run_on_host_board).
+struct HostComparison {
+  std::uint32_t samples = 0;           ///< plant samples of the QEMU run
+  std::uint32_t host_samples = 0;      ///< plant samples of the host board run
+  double max_relative_difference = 0;  ///< over the schemes both runs reported, ||x - x_host|| / ||x_host||
+  bool equal = false;                  ///< same schemes, same sample count, difference within the tolerance
+};
+
+/// Fault injection: every frame the host damaged must have been re-requested by the firmware.
+struct FaultInjection {
+  std::uint32_t damaged = 0;
+  std::uint32_t re_requested = 0;  ///< the firmware's retries (CostRecord), 0 without a cost report
+  bool all_detected = false;
+};
+
+struct HilVerdict {
+  std::vector<HilFailure> failures;  ///< empty: the run passed
+  /// The estimates by scheme (into HilResult::estimates), when they arrived and are not empty.
+  std::optional<std::size_t> dis, ais;
+  std::optional<HostComparison> host;
+  std::optional<FaultInjection> fault_injection;
+
+  bool ok() const { return failures.empty(); }
+  bool has(HilFailure f) const;
+};
+
+struct JudgeOptions {
+  /// QEMU belongs to the user (--attach): its exit status is unknown (-1), and the kDone status decides.
+  bool attached = false;
+  double tolerance = 1e-3;  ///< relative tolerance of the host comparison
+};
+
+/// Judges `run`; `host` is the host board's run of the same firmware, scenario and seed, or null when not compared.
+HilVerdict judge(const HilResult& run, const HilResult* host, const JudgeOptions& options);
+
+/// "a1" .. "an", "b1" .. "bn": the parameter a CrossCheckRecord's `worst` index names, for an order n >= 1.
+std::string cross_check_parameter(std::uint8_t worst, int n);
+
+}  // namespace lashid::sim
