@@ -9,7 +9,7 @@ if [[ ! -f build/host-release/CMakeCache.txt ]]; then cmake --preset host-releas
 cmake --build --preset host-release -j2 --target lashid >/dev/null
 d=tests/data/friction_damper
 # Training: one file per frequency and one per amplitude (a Latin square); testing: the other six and the earthquake.
-build/host-release/host_sim/lashid operator-fit \
+build/host-release/host_sim/app/lashid operator-fit \
   --train "${d}/char_0.25Hz30lbtension1amplitude.csv" "${d}/char_0.5Hz30lbtension0.5amplitude.csv" \
           "${d}/char_1Hz30lbtension1.5amplitude.csv" \
   --test "${d}/char_0.25Hz30lbtension0.5amplitude.csv" "${d}/char_0.25Hz30lbtension1.5amplitude.csv" \
