@@ -1,15 +1,19 @@
 // Measured damper records (loader), fitting of the operators to them, the friction-gap operator, the loop error
-// analysis, and the friction-gap operator as the actuator of a DIS/AIS scenario (docs/friction-damper.md).
+// analysis, the damper's cause rules, and the friction-gap operator as the actuator of a DIS/AIS scenario
+// (docs/friction-damper.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "data_error_matchers.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/damper_data.hpp"
+#include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/sim/scenario.hpp"
 
@@ -194,10 +198,14 @@ TEST(LoopAnalysis, LocatesAnErrorThatFollowsReversals) {
   options.stick_speed = 0.0;
   const LoopAnalysis a = analyse_loop(rec, u_sim, options);
   EXPECT_GE(a.reversals, 14U);
-  EXPECT_EQ(a.phases[0].phase, "reversal");
-  EXPECT_EQ(a.phases[2].phase, "sliding");
-  EXPECT_GT(a.phases[0].share_of_squared_error + a.phases[1].share_of_squared_error, 0.99);
-  EXPECT_NEAR(a.phases[2].rms, 0.0, 1e-9);
+  ASSERT_EQ(a.phases.size(), kLoopPhaseNames.size());
+  EXPECT_EQ(a.phase(LoopPhase::kReversal).phase, "reversal");
+  EXPECT_EQ(a.phase(LoopPhase::kSliding).phase, "sliding");
+  EXPECT_EQ(a.phase(LoopPhase::kStick).phase, "stick");
+  EXPECT_GT(a.phase(LoopPhase::kReversal).share_of_squared_error +
+                a.phase(LoopPhase::kEngagement).share_of_squared_error,
+            0.99);
+  EXPECT_NEAR(a.phase(LoopPhase::kSliding).rms, 0.0, 1e-9);
   // Over 0.12 of travel from a plateau the force falls to the gap: 2.5 / 0.12 (top) or 2 / 0.12 (bottom).
   EXPECT_GE(a.measured_reversal_slope, 2.0 / 0.12 - 0.5);
   EXPECT_LE(a.measured_reversal_slope, 2.5 / 0.12 + 0.5);
@@ -205,6 +213,100 @@ TEST(LoopAnalysis, LocatesAnErrorThatFollowsReversals) {
   // |u| < 0.25 for e in [-0.06, 0.06] and 0.01 (top) + 0.0125 (bottom) beyond: 0.1425 per half-cycle.
   EXPECT_NEAR(a.measured_gap, 0.1425, 0.01);
   EXPECT_LT(a.simulated_gap, 0.01);
+}
+
+TEST(OperatorFit, FitToRecordScoresADivergedSimulationAsMinusInfinity) {
+  DamperRecord rec;
+  rec.source = "r.csv";
+  rec.u = {0.0, 2.0};
+  EXPECT_DOUBLE_EQ(fit_to_record(rec, std::vector<double>{0.5, 1.5}), 50.0);  // stats::fit_percent
+  EXPECT_EQ(fit_to_record(rec, std::vector<double>{0.5, std::nan("")}), -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(fit_to_record(rec, std::vector<double>{std::numeric_limits<double>::infinity(), 1.0}),
+            -std::numeric_limits<double>::infinity());
+  // A constant measured force has no fit (the norm about its mean is 0): an error naming the file.
+  rec.u = {1.0, 1.0};
+  try {
+    fit_to_record(rec, std::vector<double>{1.0, 1.0});
+    ADD_FAILURE() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(Contains(e.what(), "r.csv: cannot score a simulation")) << e.what();
+  }
+}
+
+// ------------------------------------------------------------------------------------------ damper causes
+
+// A loop analysis with the given shares of the squared error in the reversal and engagement phases.
+LoopAnalysis analysis(double reversal_share, double engagement_share) {
+  LoopAnalysis a;
+  for (const char* name : kLoopPhaseNames) a.phases.push_back(PhaseError{name, 100, 0.0, 0.0});
+  a.phases[static_cast<std::size_t>(LoopPhase::kReversal)].share_of_squared_error = reversal_share;
+  a.phases[static_cast<std::size_t>(LoopPhase::kEngagement)].share_of_squared_error = engagement_share;
+  a.plateau = 2.0;
+  return a;
+}
+
+std::vector<std::string> names(const std::vector<DamperCause>& causes) {
+  std::vector<std::string> out;
+  for (const auto& c : causes) out.push_back(c.name);
+  return out;
+}
+
+TEST(DamperCauses, ErrorAfterReversalsOnAverage) {
+  const ExtendedFit fit;  // k = 0
+  // Mean share (0.4 + 0.1 + 0.3 + 0.1) / 2 = 0.45: not more than half.
+  EXPECT_TRUE(damper_causes({analysis(0.4, 0.1), analysis(0.3, 0.1)}, {}, fit, 3.0).empty());
+  // (0.5 + 0.1 + 0.4 + 0.1) / 2 = 0.55.
+  const auto causes = damper_causes({analysis(0.5, 0.1), analysis(0.4, 0.1)}, {}, fit, 3.0);
+  ASSERT_EQ(names(causes), std::vector<std::string>{"finite_stiffness_at_reversal"});
+  EXPECT_TRUE(causes[0].in_extended_model);
+  EXPECT_TRUE(Contains(causes[0].evidence, "on average 45 % (reversal) + 10 % (engagement)"));
+  DamperCauseOptions strict;
+  strict.reversal_error_share = 0.6;
+  EXPECT_TRUE(damper_causes({analysis(0.5, 0.1), analysis(0.4, 0.1)}, {}, fit, 3.0, strict).empty());
+}
+
+TEST(DamperCauses, GapMustExistAndMoveFurtherThanItsWidth) {
+  const ExtendedFit fit;
+  LoopAnalysis a = analysis(0.0, 0.0);
+  a.measured_gap = 0.14;
+  a.measured_gap_centre_spread = 0.10;  // moves less than its width: could be a border's zero crossing
+  EXPECT_TRUE(damper_causes({a}, {}, fit, 3.0).empty());
+  a.measured_gap_centre_spread = 2.8;
+  EXPECT_EQ(names(damper_causes({a}, {}, fit, 3.0)), std::vector<std::string>{"zero_force_gap_moving_with_reversal"});
+  a.measured_gap = 0.01;  // below min_gap: no gap
+  EXPECT_TRUE(damper_causes({a}, {}, fit, 3.0).empty());
+}
+
+TEST(DamperCauses, ParallelStiffnessCountsAboveAShareOfTheFrictionLevel) {
+  ExtendedFit fit;
+  fit.stiffness = 0.03;  // over a span of 3: 0.09, 4.5 % of the plateau 2
+  EXPECT_TRUE(damper_causes({analysis(0.0, 0.0)}, {}, fit, 3.0).empty());
+  fit.stiffness = -0.04;  // 0.12: 6 %
+  const auto causes = damper_causes({analysis(0.0, 0.0)}, {}, fit, 3.0);
+  ASSERT_EQ(names(causes), std::vector<std::string>{"position_dependent_friction"});
+  EXPECT_TRUE(Contains(causes[0].evidence, "-0.040 per unit of v"));
+  EXPECT_TRUE(Contains(causes[0].evidence, "6 % of the friction level"));
+}
+
+TEST(DamperCauses, SlidingErrorGrowingWithSpeedIsNotModelled) {
+  const ExtendedFit fit;
+  const auto extended = [](double peak_speed, double sliding_rms, std::size_t sliding_samples) {
+    LoopAnalysis a = analysis(0.0, 0.0);
+    a.peak_speed = peak_speed;
+    a.phases[static_cast<std::size_t>(LoopPhase::kSliding)].rms = sliding_rms;
+    a.phases[static_cast<std::size_t>(LoopPhase::kSliding)].samples = sliding_samples;
+    return a;
+  };
+  const std::vector<LoopAnalysis> nominal{analysis(0.0, 0.0)};
+  // Fastest 6.2 with RMS 0.48, slowest 0.8 with 0.21: ratio 2.3. A file without sliding does not count.
+  const auto causes =
+      damper_causes(nominal, {extended(6.2, 0.48, 10), extended(0.1, 0.01, 0), extended(0.8, 0.21, 10)}, fit, 3.0);
+  ASSERT_EQ(names(causes), std::vector<std::string>{"rate_dependence"});
+  EXPECT_FALSE(causes[0].in_extended_model);
+  EXPECT_TRUE(Contains(causes[0].evidence, "0.480 at a peak speed of 6.20 per s and 0.210 at 0.80 per s"));
+  EXPECT_TRUE(damper_causes(nominal, {extended(6.2, 0.30, 10), extended(0.8, 0.21, 10)}, fit, 3.0).empty());
+  EXPECT_TRUE(damper_causes(nominal, {extended(6.2, 0.48, 10)}, fit, 3.0).empty());  // one file: no comparison
+  EXPECT_TRUE(damper_causes({}, {extended(6.2, 0.48, 10), extended(0.8, 0.21, 10)}, fit, 3.0).empty());
 }
 
 // ------------------------------------------------------------------------------------ as a scenario actuator
@@ -248,8 +350,8 @@ TEST(DamperFit, ExtendedModelBeatsNominalOnHeldOutFiles) {
   for (const std::string name : {"char_0.5Hz30lbtension0.5amplitude.csv", "char_1Hz30lbtension1amplitude.csv",
                                  "char_0.25Hz30lbtension1.5amplitude.csv", "eq_KocaeliDBE.csv"}) {
     const DamperRecord rec = damper(name);
-    const double f_nom = fit_percent(rec.u, simulate_operator(*nominal_op, rec.v, rec.u.front()));
-    const double f_ext = fit_percent(rec.u, simulate_operator(*extended_op, rec.v, rec.u.front()));
+    const double f_nom = fit_to_record(rec, simulate_operator(*nominal_op, rec.v, rec.u.front()));
+    const double f_ext = fit_to_record(rec, simulate_operator(*extended_op, rec.v, rec.u.front()));
     EXPECT_GT(f_ext, f_nom + 20.0) << name << ": nominal " << f_nom << " %, extended " << f_ext << " %";
     EXPECT_GT(f_ext, name.starts_with("eq_") ? 40.0 : 70.0) << name;
   }

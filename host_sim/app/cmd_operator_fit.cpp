@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/files.hpp"
+#include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/plot.hpp"
@@ -81,62 +83,20 @@ void print_analysis(const std::string& model, const LoopAnalysis& a, std::size_t
              a.simulated_reversal_slope, a.plateau, a.measured_gap, a.simulated_gap);
 }
 
-// Causes supported by the nominal model's errors on the test files (aggregated), see docs/friction-damper.md.
-json causes(const std::vector<LoopAnalysis>& nominal, const std::vector<LoopAnalysis>& extended,
-           const ExtendedFit& ext, double v_span) {
-  double reversal_share = 0, engagement_share = 0, measured_slope = 0, simulated_slope = 0, measured_gap = 0,
-         simulated_gap = 0, plateau = 0, spread = 0;
-  for (const auto& a : nominal) {
-    spread = std::max(spread, a.measured_gap_centre_spread);
-    reversal_share += a.phases[0].share_of_squared_error;
-    engagement_share += a.phases[1].share_of_squared_error;
-    measured_slope += a.measured_reversal_slope;
-    simulated_slope += a.simulated_reversal_slope;
-    measured_gap += a.measured_gap;
-    simulated_gap += a.simulated_gap;
-    plateau += a.plateau;
-  }
-  const double n = static_cast<double>(nominal.size());
+json causes_json(const std::vector<DamperCause>& causes) {
   json out = json::array();
-  if ((reversal_share + engagement_share) / n > 0.5) {
-    out.push_back({{"name", "finite_stiffness_at_reversal"}, {"in_extended_model", true},
-                   {"evidence", fmt::format("on average {:.0f} % (reversal) + {:.0f} % (engagement) of the nominal "
-                                            "squared error follows a reversal; measured force changes at {:.1f} per "
-                                            "unit of v just after reversals, the nominal simulation at {:.1f}",
-                                            100 * reversal_share / n, 100 * engagement_share / n,
-                                            measured_slope / n, simulated_slope / n)}});
-  }
-  if (measured_gap / n > 0.02 && spread > measured_gap / n) {
-    out.push_back({{"name", "zero_force_gap_moving_with_reversal"}, {"in_extended_model", true},
-                   {"evidence", fmt::format("the measured force stays below 10 % of the friction level for {:.3f} "
-                                            "of travel per half-cycle (nominal simulation: {:.3f}), and the position of "
-                                            "this gap spreads over {:.3f} across half-cycles: it follows the last "
-                                            "reversal, which no border C(v) of v alone can represent",
-                                            measured_gap / n, simulated_gap / n, spread)}});
-  }
-  if (std::fabs(ext.stiffness) * v_span > 0.05 * plateau / n) {
-    out.push_back({{"name", "position_dependent_friction"}, {"in_extended_model", true},
-                   {"evidence", fmt::format("the sliding force changes with displacement at {:.3f} per unit of v "
-                                            "(fitted parallel stiffness), {:.0f} % of the friction level over the "
-                                            "training range",
-                                            ext.stiffness, 100 * std::fabs(ext.stiffness) * v_span / (plateau / n))}});
-  }
-  // Rate: the extended (rate-independent) model's sliding error at the fastest vs the slowest test file.
-  const auto by_speed = [](const LoopAnalysis& a, const LoopAnalysis& b) { return a.peak_speed < b.peak_speed; };
-  std::vector<LoopAnalysis> sorted;
-  for (const auto& a : extended) {
-    if (a.phases[2].samples > 0) sorted.push_back(a);
-  }
-  std::sort(sorted.begin(), sorted.end(), by_speed);
-  if (sorted.size() >= 2 && sorted.back().phases[2].rms > 1.5 * sorted.front().phases[2].rms) {
-    out.push_back({{"name", "rate_dependence"}, {"in_extended_model", false},
-                   {"evidence", fmt::format("the extended model's RMS error while sliding is {:.3f} at a peak speed "
-                                            "of {:.2f} per s and {:.3f} at {:.2f} per s (force oscillation on the "
-                                            "plateau); the operators are rate-independent",
-                                            sorted.back().phases[2].rms, sorted.back().peak_speed,
-                                            sorted.front().phases[2].rms, sorted.front().peak_speed)}});
+  for (const auto& c : causes) {
+    out.push_back({{"name", c.name}, {"in_extended_model", c.in_extended_model}, {"evidence", c.evidence}});
   }
   return out;
+}
+
+void print_causes(const std::vector<DamperCause>& causes) {
+  fmt::print("\nCauses supported by the errors on the test files:\n");
+  for (const auto& c : causes) {
+    fmt::print("  - {} ({}): {}\n", c.name, c.in_extended_model ? "in the extended model" : "not modelled",
+               c.evidence);
+  }
 }
 
 json run_identification(const HysteresisOperator& actuator, double v_min, double v_max) {
@@ -152,6 +112,110 @@ json run_identification(const HysteresisOperator& actuator, double v_min, double
     out[scheme == est::Scheme::kDescending ? "dis" : "ais"] = to_json(r);
   }
   return out;
+}
+
+// What the models do on the test files, one entry per file in the order of the files.
+struct TestResults {
+  json fit_nominal = json::object();   // file -> fit (%)
+  json fit_extended = json::object();  // file -> fit (%)
+  json loops = json::object();         // file -> both loop analyses
+  std::vector<LoopAnalysis> nominal;
+  std::vector<LoopAnalysis> extended;
+};
+
+// Simulates both models on every test file, prints their fits and loop analyses, and adds one panel per file.
+TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const NominalFit& nominal,
+                                const HysteresisOperator& nominal_op, const HysteresisOperator& extended_op,
+                                const LoopPhaseOptions& phase_options, report::plot::Figure& figure) {
+  TestResults out;
+  for (const auto& rec : test) {
+    const auto u_nom = simulate_operator(nominal_op, rec.v, rec.u.front());
+    const auto u_ext = simulate_operator(extended_op, rec.v, rec.u.front());
+    const double f_nom = fit_to_record(rec, u_nom), f_ext = fit_to_record(rec, u_ext);
+    out.fit_nominal[rec.source] = f_nom;
+    out.fit_extended[rec.source] = f_ext;
+    fmt::print("{}: {} samples, test fit nominal ({}) {:.1f} %, extended {:.1f} %\n", rec.source, rec.v.size(),
+               nominal.chosen, f_nom, f_ext);
+    const LoopAnalysis a_nom = analyse_loop(rec, u_nom, phase_options);
+    const LoopAnalysis a_ext = analyse_loop(rec, u_ext, phase_options);
+    print_analysis("nominal", a_nom, rec.v.size(), phase_options);
+    print_analysis("extended", a_ext, rec.v.size(), phase_options);
+    out.nominal.push_back(a_nom);
+    out.extended.push_back(a_ext);
+    out.loops[rec.source] = {{"nominal", analysis_json(a_nom)}, {"extended", analysis_json(a_ext)}};
+    figure.panels.push_back({std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
+                             {{"measured", rec.v, rec.u},
+                              {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},
+                              {fmt::format("friction_gap, fit {:.1f} %", f_ext), rec.v, u_ext}}});
+  }
+  return out;
+}
+
+// The figure's last panel: the nominal borders (200 points each) and the friction-gap curve G.
+report::plot::Panel fitted_models_panel(const NominalFit& nominal, const ExtendedFit& extended) {
+  std::vector<double> e_axis, g_axis;
+  for (const auto& [e, g] : extended.curve) {
+    e_axis.push_back(e);
+    g_axis.push_back(g);
+  }
+  report::plot::Panel panel{"fitted models", "v (borders) or e = v - z (G)", "force u",
+                            {{"nominal C_a", {}, {}}, {"nominal C_d", {}, {}}, {"friction_gap G(e)", e_axis, g_axis}}};
+  for (std::size_t k = 0; k < 2; ++k) {
+    const Border& b = k == 0 ? nominal.ascending : nominal.descending;
+    for (int i = 0; i < 200; ++i) {
+      const double v = b.lo() + (b.hi() - b.lo()) * i / 199.0;
+      panel.series[k].x.push_back(v);
+      panel.series[k].y.push_back(b(v));
+    }
+  }
+  return panel;
+}
+
+// [min(0, min v), max(0, max v)] over the training files.
+std::pair<double, double> training_range(const std::vector<DamperRecord>& train) {
+  double v_lo = 0, v_hi = 0;
+  for (const auto& rec : train) {
+    v_lo = std::min(v_lo, *std::min_element(rec.v.begin(), rec.v.end()));
+    v_hi = std::max(v_hi, *std::max_element(rec.v.begin(), rec.v.end()));
+  }
+  return {v_lo, v_hi};
+}
+
+json options_json(const OperatorFitArgs& args) {
+  return {{"decimate", args.decimate}, {"points", args.points}, {"deadband", args.deadband},
+          {"reversal_window", args.reversal_window}, {"engagement_window", args.engagement_window},
+          {"parallel_stiffness", !args.no_stiffness}};
+}
+
+json nominal_json(const NominalFit& nominal, int points, const json& fit_test) {
+  return {{"operator", nominal.chosen},
+          {"fit_train", {{"switch", nominal.fit_train_switch}, {"backlash", nominal.fit_train_backlash}}},
+          {"ascending", border_json(nominal.ascending, points)},
+          {"descending", border_json(nominal.descending, points)},
+          {"fit_test", fit_test}};
+}
+
+json extended_json(const ExtendedFit& extended, const HysteresisOperator& extended_op, const json& fit_test) {
+  return {{"model",
+           {{"operator", extended_op.name()},
+            {"half_width", extended.half_width},
+            {"stiffness", extended.stiffness},
+            {"curve", table_json(extended.curve)},
+            {"train_rms_by_half_width", table_json(extended.train_error_by_width)}}},
+          {"fit_train", extended.fit_train},
+          {"fit_test", fit_test}};
+}
+
+// Writes the figure, then the JSON; if the JSON cannot be written the figure is removed again.
+void write_outputs(const OperatorFitArgs& args, const report::plot::Figure& figure, const json& document) {
+  if (!args.plot_out.empty()) report::plot::write_png(figure, args.plot_out, args.gnuplot);
+  if (args.json_out.empty()) return;
+  try {
+    write_json_file(args.json_out, document);
+  } catch (...) {
+    if (!args.plot_out.empty()) std::filesystem::remove(args.plot_out);
+    throw;
+  }
 }
 
 }  // namespace
@@ -182,93 +246,24 @@ int run_operator_fit(const OperatorFitArgs& args) {
              "points: training fit {:.1f} %\n\n",
              extended.half_width, extended.stiffness, extended.curve.size(), extended.fit_train);
 
-  json fit_nominal_json = json::object(), fit_extended_json = json::object(), loops = json::object();
-  std::vector<LoopAnalysis> nominal_analyses, extended_analyses;
   report::plot::Figure figure;
   figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended)",
                              nominal.chosen);
-  for (const auto& rec : test) {
-    const auto u_nom = simulate_operator(*nominal_op, rec.v, rec.u.front());
-    const auto u_ext = simulate_operator(*extended_op, rec.v, rec.u.front());
-    const double f_nom = fit_percent(rec.u, u_nom), f_ext = fit_percent(rec.u, u_ext);
-    fit_nominal_json[rec.source] = f_nom;
-    fit_extended_json[rec.source] = f_ext;
-    fmt::print("{}: {} samples, test fit nominal ({}) {:.1f} %, extended {:.1f} %\n", rec.source, rec.v.size(),
-               nominal.chosen, f_nom, f_ext);
-    const LoopAnalysis a_nom = analyse_loop(rec, u_nom, phase_options);
-    const LoopAnalysis a_ext = analyse_loop(rec, u_ext, phase_options);
-    print_analysis("nominal", a_nom, rec.v.size(), phase_options);
-    print_analysis("extended", a_ext, rec.v.size(), phase_options);
-    nominal_analyses.push_back(a_nom);
-    extended_analyses.push_back(a_ext);
-    loops[rec.source] = {{"nominal", analysis_json(a_nom)}, {"extended", analysis_json(a_ext)}};
-    figure.panels.push_back({std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
-                             {{"measured", rec.v, rec.u},
-                              {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},
-                              {fmt::format("friction_gap, fit {:.1f} %", f_ext), rec.v, u_ext}}});
-  }
-  double v_lo = 0, v_hi = 0;
-  for (const auto& rec : train) {
-    v_lo = std::min(v_lo, *std::min_element(rec.v.begin(), rec.v.end()));
-    v_hi = std::max(v_hi, *std::max_element(rec.v.begin(), rec.v.end()));
-  }
-  const json cause = causes(nominal_analyses, extended_analyses, extended, v_hi - v_lo);
-  fmt::print("\nCauses supported by the errors on the test files:\n");
-  for (const auto& c : cause) {
-    fmt::print("  - {} ({}): {}\n", c["name"].get<std::string>(),
-               c["in_extended_model"].get<bool>() ? "in the extended model" : "not modelled",
-               c["evidence"].get<std::string>());
-  }
-  std::vector<double> e_axis, g_axis;
-  for (const auto& [e, g] : extended.curve) {
-    e_axis.push_back(e);
-    g_axis.push_back(g);
-  }
-  figure.panels.push_back({"fitted models", "v (borders) or e = v - z (G)", "force u",
-                           {{"nominal C_a", {}, {}}, {"nominal C_d", {}, {}}, {"friction_gap G(e)", e_axis, g_axis}}});
-  for (int k = 0; k < 2; ++k) {
-    const Border& b = k == 0 ? nominal.ascending : nominal.descending;
-    for (int i = 0; i < 200; ++i) {
-      const double v = b.lo() + (b.hi() - b.lo()) * i / 199.0;
-      figure.panels.back().series[static_cast<std::size_t>(k)].x.push_back(v);
-      figure.panels.back().series[static_cast<std::size_t>(k)].y.push_back(b(v));
-    }
-  }
+  const TestResults results = evaluate_test_files(test, nominal, *nominal_op, *extended_op, phase_options, figure);
+  const auto [v_lo, v_hi] = training_range(train);
+  const std::vector<DamperCause> causes = damper_causes(results.nominal, results.extended, extended, v_hi - v_lo);
+  print_causes(causes);
+  figure.panels.push_back(fitted_models_panel(nominal, extended));
 
-  json identification = run_identification(*extended_op, v_lo, v_hi);
-
-  json out = {{"train", args.train},
-              {"options",
-               {{"decimate", args.decimate}, {"points", args.points}, {"deadband", args.deadband},
-                {"reversal_window", args.reversal_window}, {"engagement_window", args.engagement_window},
-                {"parallel_stiffness", !args.no_stiffness}}},
-              {"nominal",
-               {{"operator", nominal.chosen},
-                {"fit_train", {{"switch", nominal.fit_train_switch}, {"backlash", nominal.fit_train_backlash}}},
-                {"ascending", border_json(nominal.ascending, args.points)},
-                {"descending", border_json(nominal.descending, args.points)},
-                {"fit_test", fit_nominal_json}}},
-              {"extended",
-               {{"model",
-                 {{"operator", extended_op->name()},
-                  {"half_width", extended.half_width},
-                  {"stiffness", extended.stiffness},
-                  {"curve", table_json(extended.curve)},
-                  {"train_rms_by_half_width", table_json(extended.train_error_by_width)}}},
-                {"fit_train", extended.fit_train},
-                {"fit_test", fit_extended_json}}},
-              {"cause", cause},
-              {"loop_analysis", loops},
-              {"identification", identification}};
-  if (!args.plot_out.empty()) report::plot::write_png(figure, args.plot_out, args.gnuplot);
-  if (!args.json_out.empty()) {
-    try {
-      write_json_file(args.json_out, out);
-    } catch (...) {
-      if (!args.plot_out.empty()) std::filesystem::remove(args.plot_out);
-      throw;
-    }
-  }
+  const json identification = run_identification(*extended_op, v_lo, v_hi);
+  const json document = {{"train", args.train},
+                         {"options", options_json(args)},
+                         {"nominal", nominal_json(nominal, args.points, results.fit_nominal)},
+                         {"extended", extended_json(extended, *extended_op, results.fit_extended)},
+                         {"cause", causes_json(causes)},
+                         {"loop_analysis", results.loops},
+                         {"identification", identification}};
+  write_outputs(args, figure, document);
   return 0;
 }
 

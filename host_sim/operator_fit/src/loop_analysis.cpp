@@ -5,17 +5,14 @@
 #include <stdexcept>
 
 #include "lashid/operator_fit/operator_fit.hpp"
+#include "lashid/stats/metrics.hpp"
 
 namespace lashid::sim {
 
 namespace {
 
-double median_or_zero(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
-}
+// No reversal or no half-cycle of full travel: nothing measured, reported as 0.
+double median_or_zero(const std::vector<double>& values) { return values.empty() ? 0.0 : stats::median(values); }
 
 // Median |du/dv| over the first `window` of travel after each reversal.
 double reversal_slope(std::span<const double> v, std::span<const double> u, const std::vector<std::size_t>& rev,
@@ -53,7 +50,8 @@ double zero_force_gap(std::span<const double> v, std::span<const double> u, cons
     if (count > 0) centres.push_back(sum / count);
   }
   if (centre_spread != nullptr && !centres.empty()) {
-    *centre_spread = *std::max_element(centres.begin(), centres.end()) - *std::min_element(centres.begin(), centres.end());
+    const auto [lowest, highest] = std::minmax_element(centres.begin(), centres.end());
+    *centre_spread = *highest - *lowest;
   }
   return median_or_zero(gaps);
 }
@@ -71,9 +69,8 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
   // Speed over a centred window of about 50 ms, so that a flicker of the last bit of v is not motion.
   const double dt = (record.t.back() - record.t.front()) / static_cast<double>(record.t.size() - 1);
   const auto h = static_cast<std::size_t>(std::max(1.0, std::round(0.025 / dt)));
-  const std::array<const char*, 4> names{"reversal", "engagement", "sliding", "stick"};
-  std::array<double, 4> sse{};
-  std::array<std::size_t, 4> count{};
+  std::array<double, kLoopPhaseNames.size()> sse{};
+  std::array<std::size_t, kLoopPhaseNames.size()> count{};
   std::vector<double> speeds;
   speeds.reserve(v.size());
   std::size_t last = 0;
@@ -84,23 +81,24 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
     const std::size_t a = t >= h ? t - h : 0, b = std::min(v.size() - 1, t + h);
     const double speed = std::fabs(v[b] - v[a]) / (record.t[b] - record.t[a]);
     speeds.push_back(speed);
-    std::size_t phase = 2;
+    LoopPhase phase = LoopPhase::kSliding;
     if (travel < options.reversal_window) {
-      phase = 0;
+      phase = LoopPhase::kReversal;
     } else if (speed < options.stick_speed) {
-      phase = 3;
+      phase = LoopPhase::kStick;
     } else if (travel < options.engagement_window) {
-      phase = 1;
+      phase = LoopPhase::kEngagement;
     }
     const double e = u[t] - u_sim[t];
-    sse[phase] += e * e;
-    ++count[phase];
+    const auto p = static_cast<std::size_t>(phase);
+    sse[p] += e * e;
+    ++count[p];
   }
   double total = 0;
   for (double s : sse) total += s;
-  for (std::size_t p = 0; p < names.size(); ++p) {
+  for (std::size_t p = 0; p < kLoopPhaseNames.size(); ++p) {
     PhaseError pe;
-    pe.phase = names[p];
+    pe.phase = kLoopPhaseNames[p];
     pe.samples = count[p];
     pe.share_of_squared_error = total > 0 ? sse[p] / total : 0.0;
     pe.rms = count[p] > 0 ? std::sqrt(sse[p] / static_cast<double>(count[p])) : 0.0;

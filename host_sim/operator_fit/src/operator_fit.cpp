@@ -1,3 +1,4 @@
+// Direction and reversals, median borders, the nominal and the extended fits, simulation and fit of a record.
 #include "lashid/operator_fit/operator_fit.hpp"
 
 #include <algorithm>
@@ -7,17 +8,11 @@
 
 #include <fmt/format.h>
 
+#include "lashid/stats/metrics.hpp"
+
 namespace lashid::sim {
 
 namespace {
-
-double median_of(std::vector<double>& values) {
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  double m = *mid;
-  if (values.size() % 2 == 0) m = 0.5 * (m + *std::max_element(values.begin(), mid));
-  return m;
-}
 
 // Nearest node of an equally spaced grid of `points` nodes over [lo, hi].
 std::size_t nearest_node(double v, double lo, double hi, int points) {
@@ -37,7 +32,7 @@ std::vector<std::pair<double, double>> median_table(std::span<const std::pair<do
   std::vector<std::pair<double, double>> table;
   for (std::size_t i = 0; i < bins.size(); ++i) {
     if (bins[i].empty()) continue;
-    table.emplace_back(lo + (hi - lo) * static_cast<double>(i) / (points - 1), median_of(bins[i]));
+    table.emplace_back(lo + (hi - lo) * static_cast<double>(i) / (points - 1), stats::median(bins[i]));
   }
   if (table.size() < 2) throw std::invalid_argument("fit_border: fewer than 2 nodes have samples");
   return table;
@@ -52,7 +47,7 @@ void require_training(const std::vector<DamperRecord>& train) {
 
 double mean_fit(const HysteresisOperator& op, const std::vector<DamperRecord>& train) {
   double sum = 0;
-  for (const auto& r : train) sum += fit_percent(r.u, simulate_operator(op, r.v, r.u.front()));
+  for (const auto& r : train) sum += fit_to_record(r, simulate_operator(op, r.v, r.u.front()));
   return sum / static_cast<double>(train.size());
 }
 
@@ -118,17 +113,15 @@ std::vector<double> simulate_operator(const HysteresisOperator& op, std::span<co
   return u;
 }
 
-double fit_percent(std::span<const double> u, std::span<const double> u_sim) {
-  if (u.size() != u_sim.size() || u.empty()) throw std::invalid_argument("fit_percent: sizes differ or are zero");
-  double mean = 0;
-  for (double x : u) mean += x;
-  mean /= static_cast<double>(u.size());
-  double err = 0, var = 0;
-  for (std::size_t t = 0; t < u.size(); ++t) {
-    err += (u[t] - u_sim[t]) * (u[t] - u_sim[t]);
-    var += (u[t] - mean) * (u[t] - mean);
+double fit_to_record(const DamperRecord& record, std::span<const double> u_sim) {
+  if (!std::all_of(u_sim.begin(), u_sim.end(), [](double x) { return std::isfinite(x); })) {
+    return -std::numeric_limits<double>::infinity();
   }
-  return 100.0 * (1.0 - std::sqrt(err / var));
+  try {
+    return stats::fit_percent(record.u, u_sim);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("{}: cannot score a simulation: {}", record.source, e.what()));
+  }
 }
 
 std::unique_ptr<HysteresisOperator> NominalFit::make() const {

@@ -1,186 +1,57 @@
-// Residual statistics: see statistics.hpp for the formulas and references.
+// Residual statistics: see statistics.hpp for the formulas and references. The special functions and distribution
+// tails are Boost.Math's; the arguments are checked here first, so that bad input gets this layer's
+// std::invalid_argument rather than Boost's std::domain_error.
 #include "lashid/stats/statistics.hpp"
 
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/fisher_f.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/students_t.hpp>
+#include <boost/math/special_functions/beta.hpp>
+#include <boost/math/special_functions/gamma.hpp>
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <numbers>
-#include <stdexcept>
-#include <string>
-#include <utility>
+
+#include "arguments.hpp"
 
 namespace lashid::sim::stats {
 
 namespace {
 
-constexpr double epsilon = std::numeric_limits<double>::epsilon();
+using detail::fail;
+using detail::require_finite_samples;
+using detail::require_min_size;
+using detail::require_not_constant;
+using detail::require_not_nan;
+using detail::require_positive_finite;
+
 constexpr double infinity = std::numeric_limits<double>::infinity();
-// Relative convergence threshold of the series and continued fractions, a few ulp.
-constexpr double convergence = 4.0 * epsilon;
-// Guard against a vanishing denominator in the modified Lentz method.
-constexpr double lentz_tiny = 1e-300;
-// Enough for a, b up to ~1e8 (both the series and the fractions need O(sqrt(max(a, b))) terms).
-constexpr int max_iterations = 200000;
 
-[[noreturn]] void fail(const std::string& function, const std::string& message) {
-  throw std::invalid_argument("lashid::sim::stats::" + function + ": " + message);
-}
+namespace policies = boost::math::policies;
+// Error policy of every Boost.Math call here. The arguments are validated before the call, so a domain or pole
+// error would be a bug of this file and keeps Boost's default (throw). A tail probability too small for a double is
+// 0, not an error. An intermediate too large for a double (e.g. Gamma(a) for a chi-square with 1e5 degrees of
+// freedom, divided into x^a e^-x) is +inf and the probability is still right, so overflow is not an error either.
+// A series that does not converge throws boost::math::evaluation_error, a std::runtime_error.
+using Policy = policies::policy<policies::underflow_error<policies::ignore_error>,
+                                policies::overflow_error<policies::ignore_error>,
+                                policies::evaluation_error<policies::throw_on_error>>;
 
-void require_not_nan(const char* function, const char* name, double value) {
-  if (std::isnan(value)) fail(function, fmt::format("{} is NaN", name));
-}
-
-void require_positive_finite(const char* function, const char* name, double value) {
-  if (!std::isfinite(value) || value <= 0.0) fail(function, fmt::format("{} must be finite and > 0, got {}", name, value));
-}
-
-void require_finite_samples(const char* function, const char* name, std::span<const double> x) {
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i])) fail(function, fmt::format("{}[{}] is not finite ({})", name, i, x[i]));
-  }
-}
-
-void require_min_size(const char* function, const char* name, std::span<const double> x, std::size_t min_size) {
-  if (x.size() < min_size) {
-    fail(function, fmt::format("{} needs at least {} samples, got {}", name, min_size, x.size()));
-  }
-}
-
-void require_not_constant(const char* function, const char* name, std::span<const double> x) {
-  const auto [lowest, highest] = std::minmax_element(x.begin(), x.end());
-  if (*lowest == *highest) fail(function, fmt::format("{} has zero variance (all {} samples equal {})", name, x.size(), *lowest));
-}
+// 1 - I_z(1/2, 1/2) for z <= 1/2, where I_z(1/2, 1/2) <= 1/2, so the difference is exact to an ulp. The upper tail
+// of the arcsine case, which the Student t with one degree of freedom (|t| < 1/sqrt(2)) and F(1, 1) (f <= 1)
+// reach: Boost 1.74's ibetac(1/2, 1/2, z) takes asin(sqrt(1 - z)), losing up to 1e-10 (absolute) for small z and
+// returning exactly 1 below z ~ 1e-20 (its cdf of the Cauchy distribution at t = -1e-10 is 0.5).
+double arcsine_upper_tail(double z) { return 1.0 - boost::math::ibeta(0.5, 0.5, z, Policy()); }
 
 // 0 <= lag < n.
 void require_lag(const char* function, const char* name, int lag, int min_lag, std::size_t n) {
   if (lag < min_lag || static_cast<std::size_t>(lag) >= n) {
     fail(function, fmt::format("{} must be in [{}, N - 1] = [{}, {}], got {}", name, min_lag, min_lag, n - 1, lag));
   }
-}
-
-double mean(std::span<const double> x) {
-  double sum = 0.0;
-  for (const double v : x) sum += v;
-  return sum / static_cast<double>(x.size());
-}
-
-std::vector<double> deviations(std::span<const double> x) {
-  const double m = mean(x);
-  std::vector<double> d(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) d[i] = x[i] - m;
-  return d;
-}
-
-double sum_of_squares(const std::vector<double>& d) {
-  double s = 0.0;
-  for (const double v : d) s += v * v;
-  return s;
-}
-
-// Modified Lentz evaluation of f = b0 + a1 / (b1 + a2 / (b2 + ...)), with (a_n, b_n) = term(n), n >= 1.
-template <typename Term>
-double continued_fraction(double b0, Term term, const char* function) {
-  double f = b0 == 0.0 ? lentz_tiny : b0;
-  double c = f;
-  double d = 0.0;
-  for (int n = 1; n <= max_iterations; ++n) {
-    const auto [a_n, b_n] = term(n);
-    d = b_n + a_n * d;
-    if (std::fabs(d) < lentz_tiny) d = lentz_tiny;
-    c = b_n + a_n / c;
-    if (std::fabs(c) < lentz_tiny) c = lentz_tiny;
-    d = 1.0 / d;
-    const double delta = c * d;
-    f *= delta;
-    if (std::fabs(delta - 1.0) < convergence) return f;
-  }
-  throw std::runtime_error(fmt::format("lashid::sim::stats::{}: continued fraction did not converge", function));
-}
-
-// {P(a, x), Q(a, x)}, a > 0, x >= 0 finite.
-std::pair<double, double> regularized_gamma(double a, double x) {
-  if (x == 0.0) return {0.0, 1.0};
-  const double log_prefactor = a * std::log(x) - x - std::lgamma(a);  // x^a e^-x / Gamma(a)
-  if (x < a + 1.0) {
-    // P = x^a e^-x / Gamma(a) * sum_{n>=0} x^n / (a (a+1) ... (a+n)).
-    double term = 1.0 / a;
-    double sum = term;
-    for (int n = 1; n <= max_iterations; ++n) {
-      term *= x / (a + static_cast<double>(n));
-      sum += term;
-      if (std::fabs(term) < std::fabs(sum) * convergence) {
-        const double p = std::min(1.0, sum * std::exp(log_prefactor));
-        return {p, 1.0 - p};
-      }
-    }
-    throw std::runtime_error("lashid::sim::stats::regularized_gamma_q: series did not converge");
-  }
-  // Q = x^a e^-x / Gamma(a) / K, K = (x+1-a) - 1(1-a) / ((x+3-a) - 2(2-a) / ((x+5-a) - ...)).
-  const double k = continued_fraction(
-      x + 1.0 - a,
-      [a, x](int n) {
-        const double nd = static_cast<double>(n);
-        return std::pair{-nd * (nd - a), x + 2.0 * nd + 1.0 - a};
-      },
-      "regularized_gamma_q");
-  const double q = std::min(1.0, std::exp(log_prefactor) / k);
-  return {1.0 - q, q};
-}
-
-// 1 + d1 / (1 + d2 / (1 + ...)) of A&S 26.5.8.
-double beta_fraction(double a, double b, double x) {
-  return continued_fraction(
-      1.0,
-      [a, b, x](int n) {
-        const double m = static_cast<double>(n / 2);
-        double d = 0.0;
-        if (n % 2 == 1) {  // d_{2m+1}
-          d = -(a + m) * (a + b + m) * x / ((a + 2.0 * m) * (a + 2.0 * m + 1.0));
-        } else {  // d_{2m}
-          d = m * (b - m) * x / ((a + 2.0 * m - 1.0) * (a + 2.0 * m));
-        }
-        return std::pair{d, 1.0};
-      },
-      "regularized_beta");
-}
-
-// {I_x(a, b), 1 - I_x(a, b)} with y = 1 - x supplied separately (exactly, by the caller) so that either tail
-// is obtained without cancellation. a, b > 0; x, y in [0, 1].
-std::pair<double, double> regularized_beta_pair(double a, double b, double x, double y) {
-  if (x <= 0.0) return {0.0, 1.0};
-  if (y <= 0.0) return {1.0, 0.0};
-  const double log_beta = std::lgamma(a) + std::lgamma(b) - std::lgamma(a + b);
-  const double prefactor = std::exp(a * std::log(x) + b * std::log(y) - log_beta);  // x^a y^b / B(a, b)
-  if (x < (a + 1.0) / (a + b + 2.0)) {
-    const double lower = std::min(1.0, prefactor / (a * beta_fraction(a, b, x)));
-    return {lower, 1.0 - lower};
-  }
-  const double upper = std::min(1.0, prefactor / (b * beta_fraction(b, a, y)));  // I_y(b, a)
-  return {1.0 - upper, upper};
-}
-
-double normal_density(double z) { return std::exp(-0.5 * z * z) * (0.5 * std::numbers::inv_sqrtpi * std::numbers::sqrt2); }
-
-// Phi^{-1}(p) for 0 < p < 1/2 (negative result).
-double lower_normal_quantile(double p) {
-  // A&S 26.2.23 for the upper-tail probability p: |error| < 4.5e-4.
-  const double t = std::sqrt(-2.0 * std::log(p));
-  const double numerator = 2.515517 + t * (0.802853 + t * 0.010328);
-  const double denominator = 1.0 + t * (1.432788 + t * (0.189269 + t * 0.001308));
-  double z = -(t - numerator / denominator);
-  // Halley's method on F(z) = Phi(z) - p: z <- z - u / (1 + z u / 2), u = F / F' (F'' / F' = -z).
-  for (int i = 0; i < 8; ++i) {
-    const double density = normal_density(z);
-    if (density == 0.0) break;
-    const double u = (normal_cdf(z) - p) / density;
-    const double step = u / (1.0 + 0.5 * z * u);
-    z -= step;
-    if (std::fabs(step) <= epsilon * std::fabs(z)) break;
-  }
-  return z;
 }
 
 }  // namespace
@@ -193,15 +64,17 @@ double normal_cdf(double z) {
 double normal_quantile(double p) {
   if (!(p > 0.0 && p < 1.0)) fail("normal_quantile", fmt::format("p must be in (0, 1), got {}", p));
   if (p == 0.5) return 0.0;
-  if (p < 0.5) return lower_normal_quantile(p);
-  return -lower_normal_quantile(1.0 - p);  // exact: 1 - p is representable for p in (1/2, 1)
+  const boost::math::normal_distribution<double, Policy> standard;
+  if (p < 0.5) return boost::math::quantile(standard, p);
+  // Mirrored: 1 - p is exact for p in (1/2, 1), and quantile(1 - p) == -quantile(p) holds to the bit.
+  return -boost::math::quantile(standard, 1.0 - p);
 }
 
 double regularized_gamma_q(double a, double x) {
   require_positive_finite("regularized_gamma_q", "a", a);
   if (std::isnan(x) || x < 0.0) fail("regularized_gamma_q", fmt::format("x must be >= 0, got {}", x));
   if (std::isinf(x)) return 0.0;
-  return regularized_gamma(a, x).second;
+  return boost::math::gamma_q(a, x, Policy());
 }
 
 double chi2_sf(double x, double dof) {
@@ -209,14 +82,14 @@ double chi2_sf(double x, double dof) {
   require_not_nan("chi2_sf", "x", x);
   if (x <= 0.0) return 1.0;
   if (std::isinf(x)) return 0.0;
-  return regularized_gamma(0.5 * dof, 0.5 * x).second;
+  return boost::math::cdf(boost::math::complement(boost::math::chi_squared_distribution<double, Policy>(dof), x));
 }
 
 double regularized_beta(double a, double b, double x) {
   require_positive_finite("regularized_beta", "a", a);
   require_positive_finite("regularized_beta", "b", b);
   if (!(x >= 0.0 && x <= 1.0)) fail("regularized_beta", fmt::format("x must be in [0, 1], got {}", x));
-  return regularized_beta_pair(a, b, x, 1.0 - x).first;
+  return boost::math::ibeta(a, b, x, Policy());
 }
 
 double f_sf(double f, double d1, double d2) {
@@ -224,19 +97,18 @@ double f_sf(double f, double d1, double d2) {
   require_positive_finite("f_sf", "d2", d2);
   require_not_nan("f_sf", "f", f);
   if (f <= 0.0) return 1.0;
-  const double d1f = d1 * f;
-  if (std::isinf(d1f)) return 0.0;
-  const double sum = d2 + d1f;
-  return regularized_beta_pair(0.5 * d2, 0.5 * d1, d2 / sum, d1f / sum).first;
+  if (std::isinf(f)) return 0.0;
+  if (d1 == 1.0 && d2 == 1.0 && f <= 1.0) return arcsine_upper_tail(f / (1.0 + f));
+  return boost::math::cdf(boost::math::complement(boost::math::fisher_f_distribution<double, Policy>(d1, d2), f));
 }
 
 double student_t_two_sided_p(double t, double dof) {
   require_positive_finite("student_t_two_sided_p", "dof", dof);
   require_not_nan("student_t_two_sided_p", "t", t);
-  const double t2 = t * t;
-  if (std::isinf(t2)) return 0.0;
-  const double sum = dof + t2;
-  return regularized_beta_pair(0.5 * dof, 0.5, dof / sum, t2 / sum).first;
+  if (std::isinf(t)) return 0.0;
+  if (dof == 1.0 && 2.0 * t * t < 1.0) return arcsine_upper_tail(t * t / (1.0 + t * t));
+  // 2 P(T < -|t|): the lower tail is formed without cancellation, and doubling it is exact.
+  return 2.0 * boost::math::cdf(boost::math::students_t_distribution<double, Policy>(dof), -std::fabs(t));
 }
 
 std::vector<double> autocorrelation(std::span<const double> x, int max_lag) {
@@ -245,8 +117,8 @@ std::vector<double> autocorrelation(std::span<const double> x, int max_lag) {
   require_lag(function, "max_lag", max_lag, 0, x.size());
   require_finite_samples(function, "x", x);
   require_not_constant(function, "x", x);
-  const std::vector<double> d = deviations(x);
-  const double c0 = sum_of_squares(d);
+  const std::vector<double> d = detail::deviations(x);
+  const double c0 = detail::sum_of_squares(d);
   if (!(c0 > 0.0)) fail(function, "x has zero variance");
   const auto lags = static_cast<std::size_t>(max_lag);
   std::vector<double> r(lags + 1);
@@ -270,9 +142,9 @@ std::vector<double> cross_correlation(std::span<const double> e, std::span<const
   require_finite_samples(function, "u", u);
   require_not_constant(function, "e", e);
   require_not_constant(function, "u", u);
-  const std::vector<double> de = deviations(e);
-  const std::vector<double> du = deviations(u);
-  const double scale = std::sqrt(sum_of_squares(de) * sum_of_squares(du));  // N sigma_e sigma_u
+  const std::vector<double> de = detail::deviations(e);
+  const std::vector<double> du = detail::deviations(u);
+  const double scale = std::sqrt(detail::sum_of_squares(de) * detail::sum_of_squares(du));  // N sigma_e sigma_u
   if (!(scale > 0.0)) fail(function, "e or u has zero variance");
   const std::size_t n = de.size();
   const auto lags = static_cast<std::size_t>(max_lag);
@@ -361,7 +233,7 @@ TrendTest linear_trend(std::span<const double> y) {
   const auto n = static_cast<double>(y.size());
   const double t_mean = 0.5 * (n - 1.0);
   const double stt = n * (n * n - 1.0) / 12.0;  // sum_{t=0}^{N-1} (t - tbar)^2
-  const double y_mean = mean(y);
+  const double y_mean = detail::mean(y);
   double sty = 0.0;
   for (std::size_t i = 0; i < y.size(); ++i) sty += (static_cast<double>(i) - t_mean) * (y[i] - y_mean);
   const double slope = sty / stt;
@@ -379,26 +251,6 @@ TrendTest linear_trend(std::span<const double> y) {
   }
   const double t = slope / std_error;
   return {slope, intercept, std_error, t, student_t_two_sided_p(t, dof)};
-}
-
-double fit_percent(std::span<const double> measured, std::span<const double> simulated) {
-  constexpr const char* function = "fit_percent";
-  if (measured.size() != simulated.size()) {
-    fail(function, fmt::format("measured and simulated must have equal lengths, got {} and {}", measured.size(),
-                               simulated.size()));
-  }
-  require_min_size(function, "measured", measured, 2);
-  require_finite_samples(function, "measured", measured);
-  require_finite_samples(function, "simulated", simulated);
-  require_not_constant(function, "measured", measured);
-  const double norm_about_mean = std::sqrt(sum_of_squares(deviations(measured)));
-  if (!(norm_about_mean > 0.0)) fail(function, "measured has zero variance");
-  double error = 0.0;
-  for (std::size_t i = 0; i < measured.size(); ++i) {
-    const double d = measured[i] - simulated[i];
-    error += d * d;
-  }
-  return 100.0 * (1.0 - std::sqrt(error) / norm_about_mean);
 }
 
 }  // namespace lashid::sim::stats

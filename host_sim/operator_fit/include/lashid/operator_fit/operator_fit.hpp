@@ -2,6 +2,7 @@
 // input/output records u = F[v] (docs/friction-damper.md), simulating them, and locating their error on the loop.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -32,16 +33,19 @@ std::vector<int> motion_direction(std::span<const double> v, double deadband);
 /// Indices of the extremes where the direction of motion_direction() changes (the reversal points).
 std::vector<std::size_t> reversal_indices(std::span<const double> v, double deadband);
 
-/// Nonparametric border on [lo, hi]: `points` equally spaced nodes, each the median of the u of the samples
-/// (v, u) nearest to it; nodes without samples are left out (linear interpolation between their neighbours).
+/// Nonparametric border on [lo, hi]: `points` equally spaced nodes, each the median (stats::median) of the u of the
+/// samples (v, u) nearest to it; nodes without samples are left out (linear interpolation between their neighbours).
 /// Throws std::invalid_argument for points < 2, lo >= hi or fewer than 2 nodes with samples.
 Border fit_border(std::span<const std::pair<double, double>> samples, double lo, double hi, int points);
 
 /// The operator run on a record's input from the record's first sample: reset(v[0], u[0]), then step(v[t]).
 /// The first output is the measured u[0]; the operator is cloned, `op` is not changed.
 std::vector<double> simulate_operator(const HysteresisOperator& op, std::span<const double> v, double u0);
-/// 100 (1 - ||u - u_sim|| / ||u - mean(u)||); -inf style values are possible for very bad models.
-double fit_percent(std::span<const double> u, std::span<const double> u_sim);
+/// Fit (%) of a simulated force to the record's measured force, stats::fit_percent(record.u, u_sim). A simulation
+/// with a non-finite sample scores -inf: a diverged model is the worst model, not an error (as in diagnose). Throws
+/// std::invalid_argument naming record.source when the record cannot be scored (sizes differ, fewer than 2
+/// samples, constant force).
+double fit_to_record(const DamperRecord& record, std::span<const double> u_sim);
 
 struct NominalFit {
   Border ascending;   ///< median of u over rising samples, by v
@@ -77,15 +81,20 @@ struct LoopPhaseOptions {
   double stick_speed = 0.02;         ///< "stick": |dv/dt| below this (units of v per second), outside reversals
 };
 
+/// The phases of the loop, in the order of LoopAnalysis::phases.
+enum class LoopPhase : std::size_t { kReversal, kEngagement, kSliding, kStick };
+/// Their names, as in PhaseError::phase and the JSON report.
+inline constexpr std::array<const char*, 4> kLoopPhaseNames{"reversal", "engagement", "sliding", "stick"};
+
 struct PhaseError {
-  std::string phase;  ///< reversal, engagement, sliding, stick
+  std::string phase;  ///< kLoopPhaseNames: reversal, engagement, sliding, stick
   std::size_t samples = 0;
   double share_of_squared_error = 0;  ///< fraction of the file's sum of squared errors
   double rms = 0;                     ///< RMS error within the phase
 };
 
 struct LoopAnalysis {
-  std::vector<PhaseError> phases;
+  std::vector<PhaseError> phases;  ///< one per LoopPhase, in its order
   std::size_t reversals = 0;
   double plateau = 0;                  ///< friction level: 90 % quantile of |u| measured
   double measured_reversal_slope = 0;  ///< median |du/dv| over the first reversal_window of travel after reversals
@@ -94,6 +103,8 @@ struct LoopAnalysis {
   double simulated_gap = 0;
   double measured_gap_centre_spread = 0;  ///< max - min over those half-cycles of the gap's mean position
   double peak_speed = 0;                  ///< 95 % quantile of |dv/dt| (50 ms centred differences)
+
+  const PhaseError& phase(LoopPhase p) const { return phases.at(static_cast<std::size_t>(p)); }
 };
 
 /// Splits the squared error u - u_sim of a record by phase of the loop and measures the reversal slope and the

@@ -1,17 +1,19 @@
 // Residual statistics for the diagnosis of measured data: distribution tails (normal, chi-square, Fisher F,
 // Student t), sample auto- and cross-correlations, the Ljung-Box whiteness test, the residual/input
-// independence test, a linear-trend test and the system-identification "fit" percentage.
+// independence test and a linear-trend test. The fit percentage and the median are in metrics.hpp (included).
 //
-// Everything is plain double and the standard library only. Bad arguments (too short series, lags out of
-// range, non-positive degrees of freedom, probabilities outside (0, 1), NaN, non-finite samples) throw
-// std::invalid_argument with a message naming the function and the offending value. The special functions
-// throw std::runtime_error in the (not expected) case that their series / continued fraction does not
-// converge.
+// The special functions and distribution tails are Boost.Math's (boost/math/distributions, special_functions);
+// this header keeps the project's interface to them: plain double, tails that underflow return 0, and bad
+// arguments (too short series, lags out of range, non-positive degrees of freedom, probabilities outside (0, 1),
+// NaN, non-finite samples) throw std::invalid_argument with a message naming the function and the offending value.
+// A Boost series that does not converge (not expected) throws boost::math::evaluation_error, a std::runtime_error.
 #pragma once
 
 #include <cstddef>
 #include <span>
 #include <vector>
+
+#include "lashid/stats/metrics.hpp"
 
 namespace lashid::sim::stats {
 
@@ -19,44 +21,37 @@ namespace lashid::sim::stats {
 // Distributions
 // ---------------------------------------------------------------------------------------------------------
 
-// Standard normal CDF, Phi(z) = erfc(-z / sqrt(2)) / 2 (Abramowitz & Stegun 26.2.2 with 7.1.2). Accurate to
-// a few ulp in relative terms also deep in the lower tail. Throws for NaN; Phi(-inf) = 0, Phi(+inf) = 1.
+// Standard normal CDF, Phi(z) = erfc(-z / sqrt(2)) / 2 (Abramowitz & Stegun 26.2.2 with 7.1.2), std::erfc.
+// Accurate to a few ulp in relative terms also deep in the lower tail. Throws for NaN; Phi(-inf) = 0,
+// Phi(+inf) = 1.
 double normal_cdf(double z);
 
-// Standard normal quantile Phi^{-1}(p), p in (0, 1) (open interval; throws otherwise). Initial guess from
-// the rational approximation of Abramowitz & Stegun 26.2.23 (|error| < 4.5e-4), refined by Halley steps on
-// normal_cdf, computed on the lower tail (p < 1/2) and mirrored, so the relative error is ~1e-15 and the
-// result stays accurate for p down to the smallest normal doubles. For p near 1 the accuracy is limited by
-// the representation of 1 - p, not by the method.
+// Standard normal quantile Phi^{-1}(p), p in (0, 1) (open interval; throws otherwise). Boost's normal quantile
+// (an inverse erfc accurate to a few ulp), evaluated on the lower tail (p < 1/2) and mirrored, so
+// normal_quantile(1 - p) == -normal_quantile(p) exactly and the result stays accurate for p down to the smallest
+// normal doubles. For p near 1 the accuracy is limited by the representation of 1 - p, not by the method.
 double normal_quantile(double p);
 
-// Upper regularized incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a), a > 0, x >= 0 (x = +inf
-// gives 0). For x < a + 1, Q = 1 - P with P from the series (A&S 6.5.29)
-//   P(a, x) = x^a e^{-x} / Gamma(a + 1) * sum_{n >= 0} x^n / ((a + 1)(a + 2)...(a + n));
-// otherwise the continued fraction (A&S 6.5.31, evaluated by the modified Lentz method)
-//   Q(a, x) = x^a e^{-x} / Gamma(a) * 1 / (x + 1 - a - 1(1 - a) / (x + 3 - a - 2(2 - a) / (x + 5 - a - ...))).
-// Gamma through std::lgamma. Relative accuracy ~1e-14 in the upper tail (the region that matters for
-// p-values); absolute accuracy ~1e-15 elsewhere.
+// Upper regularized incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a) (Abramowitz & Stegun 6.5),
+// a > 0, x >= 0 (x = +inf gives 0); boost::math::gamma_q, relatively accurate also deep in the upper tail.
 double regularized_gamma_q(double a, double x);
 
 // Chi-square survival function P(X > x) for X ~ chi2(dof), = Q(dof / 2, x / 2) (A&S 26.4.19). dof > 0 (real
-// allowed); x <= 0 gives 1.
+// allowed); x <= 0 gives 1, x = +inf gives 0.
 double chi2_sf(double x, double dof);
 
-// Regularized incomplete beta function I_x(a, b) = B(x; a, b) / B(a, b), a > 0, b > 0, x in [0, 1]. Continued
-// fraction of A&S 26.5.8 (modified Lentz) for x < (a + 1) / (a + b + 2), otherwise through the symmetry
-// I_x(a, b) = 1 - I_{1-x}(b, a) (A&S 26.5.2), so the fraction always converges quickly.
+// Regularized incomplete beta function I_x(a, b) = B(x; a, b) / B(a, b) (A&S 6.6), a > 0, b > 0, x in [0, 1];
+// boost::math::ibeta.
 double regularized_beta(double a, double b, double x);
 
 // Upper tail of Fisher's F distribution with (d1, d2) degrees of freedom, P(F > f) =
-// I_{d2 / (d2 + d1 f)}(d2 / 2, d1 / 2) (A&S 26.6.2). d1, d2 > 0; f <= 0 gives 1; f = +inf gives 0. The tail
-// is evaluated without cancellation (1 - x is formed as d1 f / (d2 + d1 f)), so small p-values keep their
-// relative accuracy.
+// I_{d2 / (d2 + d1 f)}(d2 / 2, d1 / 2) (A&S 26.6.2). d1, d2 > 0; f <= 0 gives 1; f = +inf gives 0. Boost forms
+// the argument of the incomplete beta without cancellation, so small p-values keep their relative accuracy.
 double f_sf(double f, double d1, double d2);
 
 // Two-sided p-value of Student's t with dof > 0 degrees of freedom, P(|T| > |t|) =
 // I_{dof / (dof + t^2)}(dof / 2, 1 / 2) (A&S 26.7.1 with 26.5.27). t = +-inf gives 0. Note
-// f_sf(t^2, 1, dof) == student_t_two_sided_p(t, dof).
+// f_sf(t^2, 1, dof) == student_t_two_sided_p(t, dof) up to rounding.
 double student_t_two_sided_p(double t, double dof);
 
 // ---------------------------------------------------------------------------------------------------------
@@ -134,11 +129,5 @@ struct TrendTest {
 // regression text, e.g. Draper & Smith, "Applied Regression Analysis", ch. 1). Requires N >= 3 and finite y.
 // The residuals are assumed white; for autocorrelated residuals the p-value is too small.
 TrendTest linear_trend(std::span<const double> y);
-
-// System-identification fit percentage (Ljung 1999, MATLAB "compare"):
-//   fit = 100 (1 - ||y - yhat|| / ||y - mean(y)||),
-// 100 for a perfect simulation, 0 for the constant mean, negative for worse than the mean. Requires equal
-// lengths N >= 2, finite samples and a non-constant measured y.
-double fit_percent(std::span<const double> measured, std::span<const double> simulated);
 
 }  // namespace lashid::sim::stats

@@ -1,0 +1,43 @@
+// Causes of a nominal operator's error on measured damper data, named from the loop analyses of the test files
+// (docs/friction-damper.md, "Causes that the command names").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "lashid/operator_fit/operator_fit.hpp"
+
+namespace lashid::sim {
+
+struct DamperCause {
+  std::string name;                ///< e.g. finite_stiffness_at_reversal
+  bool in_extended_model = false;  ///< whether the friction_gap operator models it
+  std::string evidence;            ///< one sentence with the numbers that support it
+};
+
+/// The thresholds of the rules in damper_causes(). The defaults are those of `lashid operator-fit`.
+struct DamperCauseOptions {
+  /// finite_stiffness_at_reversal: mean share of the nominal squared error in the reversal and engagement phases
+  /// above which most of the error follows a reversal.
+  double reversal_error_share = 0.5;
+  /// zero_force_gap_moving_with_reversal: mean measured travel per half-cycle with |u| below 10 % of the friction
+  /// level (units of v) above which there is a gap at all; it must also move more than its width.
+  double min_gap = 0.02;
+  /// position_dependent_friction: fraction of the friction level by which the fitted parallel stiffness must change
+  /// the force over the training range of v to count.
+  double stiffness_force_share = 0.05;
+  /// rate_dependence: the extended model's RMS error while sliding on the fastest test file (by peak speed) must
+  /// exceed this multiple of that on the slowest.
+  double sliding_rms_ratio = 1.5;
+};
+
+/// Causes supported by the errors on the test files, in this order when present: finite_stiffness_at_reversal,
+/// zero_force_gap_moving_with_reversal, position_dependent_friction (from `nominal`, averaged over the files, and
+/// `extended_fit`), rate_dependence (from `extended`; the operators are rate-independent, so it is not in the
+/// extended model). `nominal` and `extended` are the analyses of the nominal and the extended model, one per test
+/// file; `v_span` is the training range of v. No test files: no causes.
+std::vector<DamperCause> damper_causes(const std::vector<LoopAnalysis>& nominal,
+                                       const std::vector<LoopAnalysis>& extended, const ExtendedFit& extended_fit,
+                                       double v_span, const DamperCauseOptions& options = {});
+
+}  // namespace lashid::sim

@@ -1,0 +1,20 @@
+// Summary measures of data and of a model's fit to it: the system-identification fit percentage and the median.
+// Bad arguments throw std::invalid_argument with a message naming the function and the offending value.
+#pragma once
+
+#include <span>
+
+namespace lashid::sim::stats {
+
+// System-identification fit percentage (Ljung 1999, MATLAB "compare"):
+//   fit = 100 (1 - ||y - yhat|| / ||y - mean(y)||),
+// 100 for a perfect simulation, 0 for the constant mean, negative for worse than the mean. Requires equal
+// lengths N >= 2, finite samples and a non-constant measured y. A caller that must score a diverged simulation
+// (non-finite samples) decides itself what that scores, e.g. -inf.
+double fit_percent(std::span<const double> measured, std::span<const double> simulated);
+
+// Median of x: the middle value for an odd size, the mean of the two middle values for an even size. Requires a
+// non-empty x of finite samples. x is copied (the selection reorders the copy), so the caller's order is kept.
+double median(std::span<const double> x);
+
+}  // namespace lashid::sim::stats

@@ -1,0 +1,51 @@
+// Fit percentage and median: see metrics.hpp.
+#include "lashid/stats/metrics.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "arguments.hpp"
+
+namespace lashid::sim::stats {
+
+using detail::fail;
+
+double fit_percent(std::span<const double> measured, std::span<const double> simulated) {
+  constexpr const char* function = "fit_percent";
+  if (measured.size() != simulated.size()) {
+    fail(function, fmt::format("measured and simulated must have equal lengths, got {} and {}", measured.size(),
+                               simulated.size()));
+  }
+  detail::require_min_size(function, "measured", measured, 2);
+  detail::require_finite_samples(function, "measured", measured);
+  detail::require_finite_samples(function, "simulated", simulated);
+  detail::require_not_constant(function, "measured", measured);
+  const double norm_about_mean = std::sqrt(detail::sum_of_squares(detail::deviations(measured)));
+  if (!(norm_about_mean > 0.0)) fail(function, "measured has zero variance");
+  double error = 0.0;
+  for (std::size_t i = 0; i < measured.size(); ++i) {
+    const double d = measured[i] - simulated[i];
+    error += d * d;
+  }
+  return 100.0 * (1.0 - std::sqrt(error) / norm_about_mean);
+}
+
+double median(std::span<const double> x) {
+  constexpr const char* function = "median";
+  detail::require_min_size(function, "x", x, 1);
+  detail::require_finite_samples(function, "x", x);
+  std::vector<double> values(x.begin(), x.end());
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  const double upper = *middle;
+  if (values.size() % 2 == 1) return upper;
+  // After the selection every value before `middle` is <= upper: the lower middle value is their maximum.
+  const double lower = *std::max_element(values.begin(), middle);
+  return 0.5 * (lower + upper);
+}
+
+}  // namespace lashid::sim::stats
