@@ -14,7 +14,7 @@
 #include "lashid/paper/reproduction.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/report.hpp"
-#include "lashid/stats/relative_difference.hpp"
+#include "lashid/stats/metrics.hpp"
 
 namespace lashid::app {
 

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "lashid/stats/relative_difference.hpp"
+#include "lashid/stats/metrics.hpp"
 
 namespace lashid::sim {
 namespace {

@@ -48,4 +48,13 @@ double median(std::span<const double> x) {
   return 0.5 * (lower + upper);
 }
 
+double relative_difference(std::span<const double> x, std::span<const double> ref) {
+  double num = 0, den = 0;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    num += (x[k] - ref[k]) * (x[k] - ref[k]);
+    den += ref[k] * ref[k];
+  }
+  return std::sqrt(num / den);
+}
+
 }  // namespace lashid::sim::stats

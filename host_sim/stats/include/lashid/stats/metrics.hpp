@@ -1,4 +1,5 @@
-// Summary measures of data and of a model's fit to it: the system-identification fit percentage and the median.
+// Summary measures of data and of a model's fit to it: the system-identification fit percentage, the median, and
+// the relative difference of two parameter vectors.
 // Bad arguments throw std::invalid_argument with a message naming the function and the offending value.
 #pragma once
 
@@ -16,5 +17,9 @@ double fit_percent(std::span<const double> measured, std::span<const double> sim
 // Median of x: the middle value for an odd size, the mean of the two middle values for an even size. Requires a
 // non-empty x of finite samples. x is copied (the selection reorders the copy), so the caller's order is kept.
 double median(std::span<const double> x);
+
+// ||x - ref|| / ||ref|| (Euclidean norms): how far an estimate is from a reference (the truth, the paper's numbers,
+// another build of the same estimator). x and ref have the same length.
+double relative_difference(std::span<const double> x, std::span<const double> ref);
 
 }  // namespace lashid::sim::stats
