@@ -74,6 +74,8 @@ class Mps2IdentificationBoard {
 };
 
 static_assert(hal::Board<Mps2IdentificationBoard>);
+static_assert(hal::ReportsStackUse<Mps2IdentificationBoard>);
+static_assert(hal::ReportsExchangeErrors<Mps2IdentificationBoard>);
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Mps2IdentificationBoard g_board;

@@ -234,11 +234,11 @@ class IdentificationSequencer {
     const EstimateRecord dis = record(dis_, est::Scheme::kDescending);
     const EstimateRecord ais = record(ais_, est::Scheme::kAscending);
     compute_cross_check(dis, ais);
-    // Optional board extensions (a board that cannot tell simply lacks the member).
-    if constexpr (requires { board_.stack_high_water_bytes(); }) {
+    // Optional board extensions (hal/board.hpp): a board that cannot tell does not model the concept.
+    if constexpr (hal::ReportsStackUse<B>) {
       cost_.stack_bytes = static_cast<std::uint32_t>(board_.stack_high_water_bytes());
     }
-    if constexpr (requires { board_.exchange_errors(); board_.exchange_retries(); }) {
+    if constexpr (hal::ReportsExchangeErrors<B>) {
       cost_.link_errors += static_cast<std::uint32_t>(board_.exchange_errors());
       cost_.retries = static_cast<std::uint32_t>(board_.exchange_retries());
     }

@@ -36,4 +36,21 @@ concept Board = requires(B& board, const B& const_board, float v, float& y, std:
   { const_board.cycles() } -> std::same_as<std::uint32_t>;
 };
 
+// Optional board extensions, named so that a board that has one can say so where it is chosen
+// (static_assert(hal::ReportsStackUse<MyBoard>)): a misspelt member then fails to compile instead of silently
+// dropping the figure from the firmware's cost report.
+
+/// The stack's high-water mark in bytes since reset (e.g. from a painted stack).
+template <class B>
+concept ReportsStackUse = requires(const B& board) {
+  { board.stack_high_water_bytes() } -> std::convertible_to<std::size_t>;
+};
+
+/// Counts of failed and of retried plant exchanges since reset (a remote actuator and sensor behind a link).
+template <class B>
+concept ReportsExchangeErrors = requires(const B& board) {
+  { board.exchange_errors() } -> std::convertible_to<std::uint32_t>;
+  { board.exchange_retries() } -> std::convertible_to<std::uint32_t>;
+};
+
 }  // namespace lashid::hal
