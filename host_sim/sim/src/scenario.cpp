@@ -1,7 +1,6 @@
 #include "lashid/sim/scenario.hpp"
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 #include <utility>
 
@@ -10,6 +9,7 @@
 #include "lashid/estimator/design.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/paper_designs.hpp"
+#include "uniform_draw.hpp"
 
 namespace lashid::sim {
 namespace {
@@ -142,13 +142,12 @@ const Scenario& find_scenario(std::string_view name) {
 }
 
 std::vector<double> validation_input(double v_min, double v_max, int length, std::uint64_t seed) {
-  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  Draw draw(seed ^ 0x9e3779b97f4a7c15ULL);
   std::vector<double> v;
   v.reserve(static_cast<std::size_t>(length));
   while (static_cast<int>(v.size()) < length) {
-    // Uniform levels from the raw 53-bit draw, not std::uniform_real_distribution (implementation-defined).
-    const double level = v_min + (v_max - v_min) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
-    const auto hold = static_cast<int>(1 + rng() % 20);
+    const double level = draw.uniform(v_min, v_max);
+    const int hold = draw.integer(1, 20);
     for (int k = 0; k < hold && static_cast<int>(v.size()) < length; ++k) v.push_back(level);
   }
   return v;
