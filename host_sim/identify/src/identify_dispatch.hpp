@@ -4,7 +4,6 @@
 #pragma once
 
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -12,6 +11,7 @@
 
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/identify/identify.hpp"
+#include "lashid/io/compiled_design.hpp"
 
 namespace lashid::sim::detail {
 
@@ -43,13 +43,7 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
     throw DataError(data_name, fmt::format("the {} needs phases '{}' and '{}'", dis ? "DIS" : "AIS",
                                            to_string(step_phase), to_string(pulse_phase)));
   }
-  est::ExperimentDesign<Scalar, M> design;
-  design.scheme = scheme;
-  design.v_min = static_cast<Scalar>(config.v_min);
-  design.v_max = static_cast<Scalar>(config.v_max);
-  const auto& V = dis ? config.V_d : config.V_a;
-  for (int j = 0; j < M; ++j) design.V(j) = static_cast<Scalar>(V.at(static_cast<std::size_t>(j)));
-
+  const est::ExperimentDesign<Scalar, M> design = experiment_design<Scalar, M>(config, scheme);
   est::SchemeIdentifier<Scalar, N, M, Solver> id;
   if (const est::Status s = id.configure(design); s != est::Status::kOk) {
     throw DataError(data_name, fmt::format("config rejected by the estimator: {}", est::to_string(s)));
@@ -95,20 +89,14 @@ SchemeResult dispatch_backend(const ExperimentConfig& c, const Recording& rec, e
   return run<double, N, M, est::GroupedLeastSquares>(c, rec, s, name);
 }
 
-template <int N, int... Ms>
-SchemeResult dispatch_points(std::integer_sequence<int, Ms...>, const ExperimentConfig& c, const Recording& rec,
-                             est::Scheme s, const IdentifyOptions& o, std::string_view name) {
-  SchemeResult r;
-  const bool found = ((c.m == Ms + 1 ? (r = dispatch_backend<N, Ms + 1>(c, rec, s, o, name), true) : false) || ...);
-  if (!found) throw DataError(name, fmt::format("m = {} is outside the compiled range [1, {}]", c.m, kMaxPoints));
-  return r;
-}
-
 /// One model order N: dispatches m and the precision. Explicitly instantiated in identify_order_<N>.cpp.
 template <int N>
 SchemeResult identify_order(const ExperimentConfig& c, const Recording& rec, est::Scheme s, const IdentifyOptions& o,
                             std::string_view name) {
-  return dispatch_points<N>(std::make_integer_sequence<int, kMaxPoints>{}, c, rec, s, o, name);
+  SchemeResult r;
+  const bool found = with_compiled_points(c.m, [&]<int M>() { r = dispatch_backend<N, M>(c, rec, s, o, name); });
+  if (!found) throw DataError(name, fmt::format("m = {} is outside the compiled range [1, {}]", c.m, kMaxPoints));
+  return r;
 }
 
 extern template SchemeResult identify_order<1>(const ExperimentConfig&, const Recording&, est::Scheme,

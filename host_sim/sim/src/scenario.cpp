@@ -9,6 +9,7 @@
 #include "lashid/estimator/design.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/paper_designs.hpp"
+#include "lashid/io/compiled_design.hpp"
 #include "uniform_draw.hpp"
 
 namespace lashid::sim {
@@ -79,13 +80,7 @@ enum class Experiment : std::uint8_t { kStep, kPulse };
 template <int N, int M>
 std::vector<double> generate(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
                              std::int64_t length) {
-  est::ExperimentDesign<double, M> design;
-  design.scheme = scheme;
-  design.v_min = c.v_min;
-  design.v_max = c.v_max;
-  const std::vector<double>& V = scheme == est::Scheme::kDescending ? c.V_d : c.V_a;
-  for (int j = 0; j < M; ++j) design.V(j) = V.at(static_cast<std::size_t>(j));
-  const est::ExcitationGenerator<double, N, M> generator(design);
+  const est::ExcitationGenerator<double, N, M> generator(experiment_design<double, M>(c, scheme));
   std::vector<double> v(static_cast<std::size_t>(length));
   for (std::int64_t t = 0; t < length; ++t) {
     v[static_cast<std::size_t>(t)] = experiment == Experiment::kStep ? generator.step_input(t)
@@ -94,31 +89,17 @@ std::vector<double> generate(const ExperimentConfig& c, est::Scheme scheme, Expe
   return v;
 }
 
-// The generator is compiled for fixed (N, M); the scenario's n, m are runtime values in [1, kMaxOrder] x
-// [1, kMaxPoints], the range a config may hold.
-template <int N, int... Ms>
-std::vector<double> generate_points(std::integer_sequence<int, Ms...>, const ExperimentConfig& c, est::Scheme scheme,
-                                    Experiment experiment, std::int64_t length) {
-  std::vector<double> v;
-  const bool found = ((c.m == Ms + 1 ? (v = generate<N, Ms + 1>(c, scheme, experiment, length), true) : false) || ...);
-  if (!found) throw std::invalid_argument(fmt::format("m = {} is outside [1, {}]", c.m, kMaxPoints));
-  return v;
-}
-
-template <int... Ns>
-std::vector<double> generate_orders(std::integer_sequence<int, Ns...>, const ExperimentConfig& c, est::Scheme scheme,
-                                    Experiment experiment, std::int64_t length) {
-  std::vector<double> v;
-  const auto points = std::make_integer_sequence<int, kMaxPoints>{};
-  const bool found =
-      ((c.n == Ns + 1 ? (v = generate_points<Ns + 1>(points, c, scheme, experiment, length), true) : false) || ...);
-  if (!found) throw std::invalid_argument(fmt::format("n = {} is outside [1, {}]", c.n, kMaxOrder));
-  return v;
-}
-
+// The generator is compiled for fixed (N, M); the scenario's n, m are runtime values in the compiled range.
 std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
                                std::int64_t length) {
-  return generate_orders(std::make_integer_sequence<int, kMaxOrder>{}, c, scheme, experiment, length);
+  std::vector<double> v;
+  bool points_found = false;
+  const bool order_found = with_compiled_order(c.n, [&]<int N>() {
+    points_found = with_compiled_points(c.m, [&]<int M>() { v = generate<N, M>(c, scheme, experiment, length); });
+  });
+  if (!order_found) throw std::invalid_argument(fmt::format("n = {} is outside [1, {}]", c.n, kMaxOrder));
+  if (!points_found) throw std::invalid_argument(fmt::format("m = {} is outside [1, {}]", c.m, kMaxPoints));
+  return v;
 }
 
 }  // namespace
