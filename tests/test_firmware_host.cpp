@@ -15,22 +15,14 @@
 #include "lashid/hil/hil.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "link_frames.hpp"
 
 namespace {
 
 using namespace lashid;
 using hal::link::MessageType;
 
-// Decodes every frame the firmware wrote to the link.
-std::vector<hal::link::Frame> frames_of(const std::vector<std::uint8_t>& bytes, std::uint32_t* errors = nullptr) {
-  hal::link::FrameDecoder decoder;
-  std::vector<hal::link::Frame> frames;
-  for (std::uint8_t b : bytes) {
-    if (decoder.push(b) == hal::link::FrameDecoder::Result::kFrame) frames.push_back(decoder.frame());
-  }
-  if (errors != nullptr) *errors = decoder.errors();
-  return frames;
-}
+using test::frames_of;
 
 struct Reports {
   std::vector<fw::EstimateRecord> estimates;

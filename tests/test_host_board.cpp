@@ -12,6 +12,7 @@
 #include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hal/host_board.hpp"
+#include "link_frames.hpp"
 #include "paper_examples.hpp"
 
 namespace {
@@ -122,12 +123,9 @@ TEST(HostBoard, TheFirmwareIdentifiesTheNoiseFreeAisExampleThroughTheBoard) {
   fw::IdentificationSequencer<hal::HostBoard<AisExamplePlant>, fw::AisPaperConfig> firmware(board);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
 
-  hal::link::FrameDecoder decoder;
   fw::EstimateRecord ais;
   bool found = false;
-  for (std::uint8_t byte : board.link_output()) {
-    if (decoder.push(byte) != hal::link::FrameDecoder::Result::kFrame) continue;
-    const hal::link::Frame& f = decoder.frame();
+  for (const hal::link::Frame& f : test::frames_of(board.link_output())) {
     fw::EstimateRecord e;
     if (f.type == hal::link::MessageType::kEstimate && e.decode(f.reader()) && e.scheme == est::Scheme::kAscending) {
       ais = e;

@@ -1,0 +1,23 @@
+// Shared by the firmware tests: the frames a firmware wrote to its link, decoded as the host decodes them.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "lashid/hal/link_protocol.hpp"
+
+namespace lashid::test {
+
+/// Every complete frame in `bytes`; *errors (if given) gets the decoder's count of dropped frames.
+inline std::vector<hal::link::Frame> frames_of(const std::vector<std::uint8_t>& bytes,
+                                               std::uint32_t* errors = nullptr) {
+  hal::link::FrameDecoder decoder;
+  std::vector<hal::link::Frame> frames;
+  for (std::uint8_t b : bytes) {
+    if (decoder.push(b) == hal::link::FrameDecoder::Result::kFrame) frames.push_back(decoder.frame());
+  }
+  if (errors != nullptr) *errors = decoder.errors();
+  return frames;
+}
+
+}  // namespace lashid::test
