@@ -22,6 +22,7 @@ enum class Stage : std::uint8_t {
   kPulseD,
   kStepA,
   kPulseA,
+  kValidation,
   kReport,
   kDone,
 };
@@ -35,6 +36,7 @@ constexpr const char* to_string(Stage s) {
     case Stage::kPulseD: return "DP pulse experiment";
     case Stage::kStepA: return "AIS step experiment";
     case Stage::kPulseA: return "AP pulse experiment";
+    case Stage::kValidation: return "validation";
     case Stage::kReport: return "report";
     case Stage::kDone: return "done";
   }
@@ -49,6 +51,7 @@ enum class RunStatus : std::uint8_t {
   kSensorFault,        ///< a measurement could not be obtained after retries
   kEstimatorFailed,    ///< a scheme's estimate has a non-ok status (see its kEstimate record)
   kStopped,            ///< stopped by command
+  kDesignRejected,     ///< the design sent with kDesign broke a rule (its DesignStatus was answered); nothing ran
 };
 
 constexpr const char* to_string(RunStatus s) {
@@ -59,6 +62,7 @@ constexpr const char* to_string(RunStatus s) {
     case RunStatus::kSensorFault: return "sensor fault";
     case RunStatus::kEstimatorFailed: return "estimator failed";
     case RunStatus::kStopped: return "stopped";
+    case RunStatus::kDesignRejected: return "design rejected";
   }
   return "unknown";
 }

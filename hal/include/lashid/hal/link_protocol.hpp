@@ -26,6 +26,8 @@ enum class MessageType : std::uint8_t {
   kMeasurement = 0x02,  ///< host -> firmware: u32 t, f32 y. The answer to kActuate with the same t.
   kCommand = 0x10,      ///< host -> firmware: u8 Command
   kStatus = 0x11,       ///< firmware -> host: u8 stage, u32 samples done, u32 link errors
+  kDesign = 0x12,       ///< host -> firmware: the run's design (firmware/run_design.hpp), before kStart
+  kDesignStatus = 0x13, ///< firmware -> host: u8 DesignStatus, the answer to kDesign (0 = accepted)
   kEstimate = 0x20,     ///< firmware -> host: one scheme's estimate (EstimateRecord)
   kCrossCheck = 0x21,   ///< firmware -> host: Remark 3b cross-check (CrossCheckRecord)
   kCost = 0x22,         ///< firmware -> host: footprint and cost (CostRecord)
