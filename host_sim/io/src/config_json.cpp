@@ -4,6 +4,7 @@
 
 #include "lashid/estimator/design.hpp"
 #include "lashid/io/files.hpp"
+#include "json_document.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>  // fmt::join
@@ -13,7 +14,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <set>
 #include <span>
 #include <string>
 
@@ -181,73 +181,10 @@ class ConfigReader {
   std::string_view source_name_;
 };
 
-// Where the parser is, as far as keys go: the open objects and the last key seen. Used to report
-// duplicate keys, and to name the key whose value the parser rejected (e.g. a number overflow).
-struct JsonKeyTracker {
-  struct OpenObject {
-    std::string path;
-    std::set<std::string> keys;
-  };
-  std::vector<OpenObject> objects;
-  std::string last_key_path;
-};
-
-// nlohmann keeps the last of duplicate keys silently; a repeated key is as likely a mistake as a
-// typo, so the parse callback reports it.
-json::parser_callback_t duplicate_key_detector(JsonKeyTracker& tracker, std::string_view source_name) {
-  return [&tracker, source_name](int /*depth*/, json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-        tracker.objects.push_back({tracker.objects.empty() ? std::string() : tracker.last_key_path, {}});
-        break;
-      case json::parse_event_t::object_end:
-        tracker.objects.pop_back();
-        break;
-      case json::parse_event_t::key: {
-        JsonKeyTracker::OpenObject& object = tracker.objects.back();
-        const auto& key = parsed.get_ref<const std::string&>();
-        tracker.last_key_path = object.path.empty() ? key : fmt::format("{}.{}", object.path, key);
-        if (!object.keys.insert(key).second) {
-          throw DataError(source_name, fmt::format("duplicate key '{}'", tracker.last_key_path));
-        }
-        break;
-      }
-      default:
-        break;
-    }
-    return true;
-  };
-}
-
-// nlohmann messages start with "[json.exception.parse_error.101] "; the id means nothing to a user.
-std::string_view without_exception_id(std::string_view message) {
-  if (message.starts_with("[json.exception.")) {
-    if (const std::size_t end = message.find("] "); end != std::string_view::npos) message.remove_prefix(end + 2);
-  }
-  return message;
-}
-
-std::size_t line_of_byte(std::string_view text, std::size_t byte_position) {
-  const std::string_view before = text.substr(0, std::min(byte_position, text.size()));
-  return 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
-}
-
 }  // namespace
 
 ExperimentConfig parse_config_json(std::string_view text, std::string_view source_name) {
-  json document;
-  JsonKeyTracker tracker;
-  try {
-    document = json::parse(text, duplicate_key_detector(tracker, source_name));
-  } catch (const json::parse_error& error) {
-    throw DataError(source_name, line_of_byte(text, error.byte),
-                    fmt::format("invalid JSON: {}", without_exception_id(error.what())));
-  } catch (const json::exception& error) {  // e.g. out_of_range for a number like 1e999, which has no position
-    const std::string where =
-        tracker.last_key_path.empty() ? std::string() : fmt::format(" (at key '{}')", tracker.last_key_path);
-    throw DataError(source_name, fmt::format("invalid JSON: {}{}", without_exception_id(error.what()), where));
-  }
-  return ConfigReader(source_name).read(document);
+  return ConfigReader(source_name).read(detail::parse_json_document(text, source_name));
 }
 
 ExperimentConfig read_config_json(const std::filesystem::path& path) {
@@ -281,7 +218,7 @@ void write_json_file(const std::filesystem::path& path, const nlohmann::json& do
   try {
     text = document.dump(2);                 // nlohmann writes doubles in shortest round-trip form
   } catch (const json::type_error& error) {  // e.g. invalid UTF-8 in a string
-    throw DataError(path.string(), fmt::format("cannot serialize JSON: {}", without_exception_id(error.what())));
+    throw DataError(path.string(), fmt::format("cannot serialize JSON: {}", detail::without_exception_id(error.what())));
   }
   text += '\n';
   write_file_atomically(path, text);

@@ -21,25 +21,6 @@ namespace fs = std::filesystem;
 
 std::string errno_message(int error_number) { return std::generic_category().message(error_number); }
 
-// Removes the temporary file on every exit path until the rename has succeeded.
-class TemporaryFileGuard {
- public:
-  explicit TemporaryFileGuard(fs::path path) : path_(std::move(path)) {}
-  TemporaryFileGuard(const TemporaryFileGuard&) = delete;
-  TemporaryFileGuard& operator=(const TemporaryFileGuard&) = delete;
-  ~TemporaryFileGuard() {
-    if (!released_) {
-      std::error_code ignored;
-      fs::remove(path_, ignored);
-    }
-  }
-  void release() { released_ = true; }
-
- private:
-  fs::path path_;
-  bool released_ = false;
-};
-
 fs::path temporary_sibling(const fs::path& target) {
   // A random suffix keeps concurrent writers of the same target from sharing a temporary file.
   std::random_device entropy;
@@ -81,24 +62,62 @@ void check_can_write(const fs::path& path) {
 }
 
 void write_file_atomically(const fs::path& path, std::string_view content) {
+  AtomicFileWriter file(path);
+  file.write(content);
+  file.commit();
+}
+
+AtomicFileWriter::AtomicFileWriter(const fs::path& path) : path_(path) {
   check_can_write(path);
-  const std::string name = path.string();
-  std::error_code error;
-  const fs::path temporary = temporary_sibling(path);
-  TemporaryFileGuard guard(temporary);
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw DataError(name,
-                      fmt::format("cannot create temporary file '{}': {}", temporary.string(), errno_message(errno)));
-    }
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.close();  // flushes; a full disk shows up here
-    if (!out) throw DataError(name, fmt::format("error while writing temporary file '{}'", temporary.string()));
+  temporary_ = temporary_sibling(path);
+  out_.open(temporary_, std::ios::binary | std::ios::trunc);
+  if (!out_) {
+    throw DataError(path.string(),
+                    fmt::format("cannot create temporary file '{}': {}", temporary_.string(), errno_message(errno)));
   }
-  fs::rename(temporary, path, error);
-  if (error) throw DataError(name, fmt::format("cannot replace file: {}", error.message()));
-  guard.release();
+  open_ = true;
+}
+
+AtomicFileWriter::~AtomicFileWriter() { discard(); }
+
+void AtomicFileWriter::write(std::string_view text) {
+  if (!open_) throw DataError(path_.string(), "write after the file was committed or discarded");
+  out_.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!out_) fail_write();
+}
+
+void AtomicFileWriter::flush() {
+  if (!open_) return;
+  out_.flush();
+  if (!out_) fail_write();
+}
+
+void AtomicFileWriter::commit() {
+  const std::string name = path_.string();
+  if (!open_) throw DataError(name, "commit after the file was committed or discarded");
+  out_.close();  // flushes; a full disk shows up here
+  if (!out_) fail_write();
+  std::error_code error;
+  fs::rename(temporary_, path_, error);
+  if (error) {
+    discard();
+    throw DataError(name, fmt::format("cannot replace file: {}", error.message()));
+  }
+  open_ = false;
+}
+
+void AtomicFileWriter::fail_write() {
+  const std::string temporary = temporary_.string();
+  discard();
+  throw DataError(path_.string(), fmt::format("error while writing temporary file '{}'", temporary));
+}
+
+void AtomicFileWriter::discard() noexcept {
+  if (!open_) return;
+  open_ = false;
+  out_.close();
+  std::error_code ignored;
+  fs::remove(temporary_, ignored);
 }
 
 }  // namespace lashid::sim

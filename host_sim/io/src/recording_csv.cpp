@@ -7,10 +7,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <iterator>
-#include <random>
-#include <system_error>
+#include <stdexcept>
 #include <utility>
 
 #include "lashid/io/data_error.hpp"
@@ -176,36 +174,77 @@ Recording read_recording_csv(const fs::path& path) { return parse_recording_csv(
 
 void write_recording_csv(const fs::path& path, const Recording& recording,
                          const std::vector<std::string>& comment_lines) {
-  const std::string name = path.string();
   // Refuse what read_recording_csv would reject, so every file we write can be read back.
-  if (recording.size() == 0) throw DataError(name, "refusing to write an empty recording");
-
-  std::string content;
-  auto out = std::back_inserter(content);
-  for (const std::string& comment : comment_lines) {
-    std::string_view rest = comment;
-    for (;;) {  // each embedded line gets its own '#', otherwise it would be read as data
-      const std::size_t newline = rest.find('\n');
-      const std::string_view piece = rest.substr(0, newline);
-      fmt::format_to(out, "{}\n", piece.empty() ? std::string("#") : fmt::format("# {}", piece));
-      if (newline == std::string_view::npos) break;
-      rest.remove_prefix(newline + 1);
-    }
-  }
-  fmt::format_to(out, "{}\n", kHeader);
+  if (recording.size() == 0) throw DataError(path.string(), "refusing to write an empty recording");
+  RecordingCsvStream out(path, comment_lines);
   for (const Phase phase : recording.order()) {
-    const std::span<const Sample> samples = recording.phase(phase);
-    for (std::size_t t = 0; t < samples.size(); ++t) {
-      const Sample& sample = samples[t];
-      if (!std::isfinite(sample.v) || !std::isfinite(sample.y)) {
-        throw DataError(name, fmt::format("refusing to write non-finite sample v = {}, y = {} at phase '{}' t = {}",
-                                          sample.v, sample.y, to_string(phase), t));
-      }
-      // "{}" is fmt's shortest representation that parses back to the same double.
-      fmt::format_to(out, "{},{},{},{}\n", to_string(phase), t, sample.v, sample.y);
-    }
+    for (const Sample& sample : recording.phase(phase)) out.append(phase, sample.v, sample.y);
   }
-  write_file_atomically(path, content);
+  out.finish();
+}
+
+RecordingCsvStream::RecordingCsvStream(const fs::path& path, const std::vector<std::string>& comment_lines)
+    : file_(path) {
+  for (const std::string& line : comment_lines) comment(line);
+  fmt::format_to(std::back_inserter(buffer_), "{}\n", kHeader);
+}
+
+void RecordingCsvStream::comment(std::string_view text) {
+  auto out = std::back_inserter(buffer_);
+  for (;;) {  // each embedded line gets its own '#', otherwise it would be read as data
+    const std::size_t newline = text.find('\n');
+    const std::string_view piece = text.substr(0, newline);
+    if (piece.empty()) {
+      fmt::format_to(out, "#\n");
+    } else {
+      fmt::format_to(out, "# {}\n", piece);
+    }
+    if (newline == std::string_view::npos) break;
+    text.remove_prefix(newline + 1);
+  }
+}
+
+void RecordingCsvStream::append(Phase phase, double v, double y) {
+  const std::size_t index = index_of(phase);
+  if (current_ != phase) {
+    if (closed_[index]) {
+      throw std::invalid_argument(fmt::format("recording: phase '{}' appended again after its block ended",
+                                              to_string(phase)));
+    }
+    if (current_) {
+      closed_[index_of(*current_)] = true;
+      flush();  // a phase change: what was measured so far is in the file
+    }
+    current_ = phase;
+  }
+  const std::size_t t = count_[index];
+  if (!std::isfinite(v) || !std::isfinite(y)) {
+    throw DataError(file_.path().string(),
+                    fmt::format("refusing to write non-finite sample v = {}, y = {} at phase '{}' t = {}", v, y,
+                                to_string(phase), t));
+  }
+  // "{}" is fmt's shortest representation that parses back to the same double.
+  fmt::format_to(std::back_inserter(buffer_), "{},{},{},{}\n", to_string(phase), t, v, y);
+  ++count_[index];
+  ++rows_;
+  if (++rows_since_flush_ >= kFlushRows) flush();
+}
+
+void RecordingCsvStream::flush() {
+  file_.write(buffer_);
+  buffer_.clear();
+  file_.flush();
+  rows_since_flush_ = 0;
+}
+
+void RecordingCsvStream::finish() {
+  if (rows_ == 0) {
+    file_.discard();
+    throw DataError(file_.path().string(), "refusing to write an empty recording");
+  }
+  file_.write(buffer_);
+  buffer_.clear();
+  file_.commit();
 }
 
 }  // namespace lashid::sim

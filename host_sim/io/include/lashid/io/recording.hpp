@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "lashid/io/data_error.hpp"
+#include "lashid/io/files.hpp"
 
 namespace lashid::sim {
 
@@ -72,5 +73,40 @@ Recording parse_recording_csv(std::string_view text, std::string_view source_nam
 // file cannot be written.
 void write_recording_csv(const std::filesystem::path& path, const Recording& recording,
                          const std::vector<std::string>& comment_lines);
+
+// The same CSV written row by row while the samples are measured (`lashid hil --record`): the comment lines and the
+// header at once, then each sample as it is appended, flushed to the temporary file at every phase change and every
+// kFlushRows rows, and renamed onto `path` by finish() (AtomicFileWriter). write_recording_csv is built on it, so
+// both write the same bytes and refuse the same things.
+class RecordingCsvStream {
+ public:
+  static constexpr std::size_t kFlushRows = 1000;
+
+  // Throws DataError when `path` cannot be written.
+  RecordingCsvStream(const std::filesystem::path& path, const std::vector<std::string>& comment_lines);
+
+  // Appends sample t of `phase`, t counting that phase's samples from 0. Throws DataError for a non-finite sample
+  // (the file could not be read back), std::invalid_argument when `phase` already had a block that ended.
+  void append(Phase phase, double v, double y);
+  // A comment line at this point of the file (e.g. why a recording is partial); same rules as comment_lines.
+  void comment(std::string_view text);
+  void flush();
+  // Samples appended so far.
+  std::size_t rows() const { return rows_; }
+  // Renames the file onto `path`. Throws DataError, and writes no file, when no sample was appended: a recording
+  // needs at least one data row to be read back.
+  void finish();
+  // Drops the file; `path` is untouched.
+  void discard() noexcept { file_.discard(); }
+
+ private:
+  AtomicFileWriter file_;
+  std::string buffer_;
+  std::size_t rows_ = 0;
+  std::size_t rows_since_flush_ = 0;
+  std::optional<Phase> current_;
+  std::array<std::size_t, kPhaseCount> count_{};
+  std::array<bool, kPhaseCount> closed_{};
+};
 
 }  // namespace lashid::sim

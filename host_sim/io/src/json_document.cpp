@@ -1,0 +1,85 @@
+// The JSON parse shared by the config and plant-file readers: duplicate keys and unreadable values named.
+#include "json_document.hpp"
+
+#include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "lashid/io/data_error.hpp"
+
+namespace lashid::sim::detail {
+
+namespace {
+
+using nlohmann::json;
+
+// Where the parser is, as far as keys go: the open objects and the last key seen. Used to report
+// duplicate keys, and to name the key whose value the parser rejected (e.g. a number overflow).
+struct JsonKeyTracker {
+  struct OpenObject {
+    std::string path;
+    std::set<std::string> keys;
+  };
+  std::vector<OpenObject> objects;
+  std::string last_key_path;
+};
+
+// nlohmann keeps the last of duplicate keys silently; a repeated key is as likely a mistake as a
+// typo, so the parse callback reports it.
+json::parser_callback_t duplicate_key_detector(JsonKeyTracker& tracker, std::string_view source_name) {
+  return [&tracker, source_name](int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        tracker.objects.push_back({tracker.objects.empty() ? std::string() : tracker.last_key_path, {}});
+        break;
+      case json::parse_event_t::object_end:
+        tracker.objects.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        JsonKeyTracker::OpenObject& object = tracker.objects.back();
+        const auto& key = parsed.get_ref<const std::string&>();
+        tracker.last_key_path = object.path.empty() ? key : fmt::format("{}.{}", object.path, key);
+        if (!object.keys.insert(key).second) {
+          throw DataError(source_name, fmt::format("duplicate key '{}'", tracker.last_key_path));
+        }
+        break;
+      }
+      default:
+        break;
+    }
+    return true;
+  };
+}
+
+std::size_t line_of_byte(std::string_view text, std::size_t byte_position) {
+  const std::string_view before = text.substr(0, std::min(byte_position, text.size()));
+  return 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+}
+
+}  // namespace
+
+std::string_view without_exception_id(std::string_view message) {
+  if (message.starts_with("[json.exception.")) {
+    if (const std::size_t end = message.find("] "); end != std::string_view::npos) message.remove_prefix(end + 2);
+  }
+  return message;
+}
+
+json parse_json_document(std::string_view text, std::string_view source_name) {
+  JsonKeyTracker tracker;
+  try {
+    return json::parse(text, duplicate_key_detector(tracker, source_name));
+  } catch (const json::parse_error& error) {
+    throw DataError(source_name, line_of_byte(text, error.byte),
+                    fmt::format("invalid JSON: {}", without_exception_id(error.what())));
+  } catch (const json::exception& error) {  // e.g. out_of_range for a number like 1e999, which has no position
+    const std::string where =
+        tracker.last_key_path.empty() ? std::string() : fmt::format(" (at key '{}')", tracker.last_key_path);
+    throw DataError(source_name, fmt::format("invalid JSON: {}{}", without_exception_id(error.what()), where));
+  }
+}
+
+}  // namespace lashid::sim::detail
