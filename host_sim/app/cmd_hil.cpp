@@ -12,8 +12,10 @@
 #include "lashid/hil/hil.hpp"
 #include "lashid/hil/verdict.hpp"
 #include "lashid/io/config.hpp"
+#include "lashid/io/plant_file.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "plant_notes.hpp"
 
 namespace lashid::app {
 
@@ -71,21 +73,36 @@ int run_hil_command(const HilArgs& args) {
   options.timeout_seconds = args.timeout;
   options.corrupt_every = args.corrupt_every;
   options.icount = args.icount;
+  options.plant_file = args.plant;
+  options.record = args.record;
+  if (!args.plant.empty()) note_ignored_keys(read_plant_json(args.plant), args.plant);
   const HilResult r = run_hil(options);
   std::optional<HilResult> host;
-  if (args.compare_host) host = run_on_host_board(args.scenario, args.seed);
+  if (args.compare_host) {
+    HilOptions in_process = options;  // the same plant, not recorded again
+    in_process.record.clear();
+    host = run_on_host_board(in_process);
+  }
   JudgeOptions rules;
   rules.attached = !options.attach_link.empty();
   rules.tolerance = args.tolerance;
   const HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
 
   fmt::print("== hil: {} on {}, plant {} (seed {}) ==\n",
-             args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine, args.scenario, args.seed);
+             args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine,
+             args.plant.empty() ? args.scenario : args.plant, args.seed);
   fmt::print("  firmware result: {}; QEMU exit status {}\n", run_status_name(r.done), r.qemu_exit);
   fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
              "damaged on purpose\n",
              r.samples, r.repeated_requests, r.protocol_errors, r.corrupted_by_host);
-  for (const auto& e : r.estimates) print_estimate(e, scenario.config);
+  if (!args.record.empty()) {
+    fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
+               r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
+  }
+  // A plant file's truth is not the scenario's: print the estimates without it.
+  ExperimentConfig shown = scenario.config;
+  if (!args.plant.empty()) shown.truth.reset();
+  for (const auto& e : r.estimates) print_estimate(e, shown);
   if (r.cross_check) {
     const auto& c = *r.cross_check;
     if (c.max_z < 0) {

@@ -1,12 +1,17 @@
-// `lashid scenarios` and `lashid simulate`: the built-in plants, and recordings of them.
+// `lashid scenarios` and `lashid simulate`: the built-in plants and plant files, and recordings of them.
 #include <filesystem>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "commands.hpp"
 #include "lashid/io/files.hpp"
+#include "lashid/io/plant_file.hpp"
 #include "lashid/report/json.hpp"
+#include "lashid/sim/file_plant.hpp"
+#include "lashid/sim/run_design.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "plant_notes.hpp"
 
 namespace lashid::app {
 
@@ -17,7 +22,35 @@ int run_scenarios() {
   return 0;
 }
 
+namespace {
+
+// `simulate --plant PLANT --config CFG`: the device's run of the config's design on the plant, without firmware.
+int run_simulate_plant(const SimulateArgs& args) {
+  const PlantSpec spec = read_plant_json(args.plant);
+  note_ignored_keys(spec, args.plant);
+  const ExperimentConfig config = read_config_json(args.config);
+  const RunLengths lengths = run_lengths(config);
+  Recording rec;
+  try {
+    rec = simulate_file_plant(spec, args.plant, config, args.seed);
+  } catch (const std::invalid_argument& e) {  // the design: a property of the config file
+    throw DataError(args.config, e.what());
+  }
+  const std::vector<std::string> comments{
+      fmt::format("lashid simulate --plant {} --config {} --seed {}", args.plant, args.config, args.seed),
+      plant_summary(spec),
+      fmt::format("L = {}, N_d = {}, N_a = {}; val: {} samples of the firmware's validation excitation, seed {}",
+                  lengths.step_length, lengths.pulse_length_d, lengths.pulse_length_a, lengths.val_length,
+                  lengths.val_seed)};
+  write_recording_csv(args.data_out, rec, comments);
+  fmt::print("wrote {} ({} samples)\n", args.data_out, rec.size());
+  return 0;
+}
+
+}  // namespace
+
 int run_simulate(const SimulateArgs& args) {
+  if (!args.plant.empty()) return run_simulate_plant(args);
   Scenario scenario = find_scenario(args.scenario);
   if (args.noise_variance >= 0) scenario.noise_variance = args.noise_variance;
   SimulationOptions options;

@@ -10,6 +10,8 @@ namespace lashid::app {
 
 struct SimulateArgs {
   std::string scenario;
+  std::string plant;   // a plant file instead of a scenario (with `config`)
+  std::string config;  // the experiment config a plant file is simulated with
   std::uint64_t seed = 1;
   double input_lag = 0;
   double noise_variance = -1;
@@ -50,6 +52,8 @@ struct HilArgs {
   double ticks_to_instructions = 0;
   bool icount = false;
   std::string json_out;
+  std::string plant;   // a plant file played instead of the scenario's plant
+  std::string record;  // the recording of the exchanged samples
 };
 int run_hil_command(const HilArgs& args);
 

@@ -33,19 +33,35 @@ struct Arguments {
 };
 
 CLI::App* add_simulate(CLI::App& app, SimulateArgs& args) {
-  auto* cmd = app.add_subcommand("simulate", "Simulate a recording (step_d, dis, step_a, ais, val) of a scenario");
-  cmd->add_option("--scenario", args.scenario, "Scenario name (see `lashid scenarios`)")->required();
+  auto* cmd = app.add_subcommand("simulate", "Simulate a recording (step_d, dis, step_a, ais, val) of a scenario or "
+                                             "of a plant file");
+  auto* scenario = cmd->add_option("--scenario", args.scenario, "Scenario name (see `lashid scenarios`)");
+  auto* plant = cmd->add_option("--plant", args.plant,
+                                "Plant file (JSON, docs/data-format.md) instead of a scenario; needs --config")
+                    ->check(CLI::ExistingFile);
+  auto* config = cmd->add_option("--config", args.config,
+                                 "Experiment config (JSON) whose design the plant file is run with, as the device "
+                                 "would run it (val phase from the firmware's validation generator)")
+                     ->check(CLI::ExistingFile);
+  scenario->excludes(plant);
+  plant->needs(config);
+  config->needs(plant);
+  cmd->callback([&args] {
+    if (args.scenario.empty() && args.plant.empty()) throw CLI::RequiredError("--scenario or --plant");
+  });
   cmd->add_option("--seed", args.seed, "Seed of the noise and of the validation input")
       ->check(kNonNegativeSeed)
       ->capture_default_str();
   cmd->add_option("--input-lag", args.input_lag,
                        "lambda of G = (1-lambda)/(1-lambda q^-1) before the operator (Section 3.5.3)")
       ->check(CLI::Range(0.0, 0.999))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->excludes(plant);
   cmd->add_option("--noise-variance", args.noise_variance, "Override the scenario's noise variance")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(plant);
   cmd->add_option("--out", args.data_out, "Recording to write (CSV, docs/data-format.md)")->required();
-  cmd->add_option("--config-out", args.config_out, "Config to write (JSON, with the truth)");
+  cmd->add_option("--config-out", args.config_out, "Config to write (JSON, with the truth)")->excludes(plant);
   return cmd;
 }
 
@@ -84,8 +100,15 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   cmd->callback([&] {
     if (args.firmware.empty() && args.attach.empty()) throw CLI::RequiredError("--firmware or --attach");
   });
-  cmd->add_option("--scenario", args.scenario, "Plant played by the host (must match the firmware's config)")
+  cmd->add_option("--scenario", args.scenario,
+                  "Plant played by the host and the design of its paper image (must match the firmware's config); "
+                  "with --plant only the design")
       ->required();
+  cmd->add_option("--plant", args.plant, "Play this plant file (JSON, docs/data-format.md) instead of the scenario's")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--record", args.record,
+                  "Write every exchanged sample (v commanded, y answered) as a recording (CSV), flushed while the run "
+                  "goes on; a run that stops early keeps what it measured (marked partial)");
   cmd->add_option("--seed", args.seed, "Noise seed of the plant")->check(kNonNegativeSeed)->capture_default_str();
   cmd->add_option("--machine", args.machine, "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3)")
       ->capture_default_str();

@@ -18,9 +18,11 @@ set(allowed_firmware "estimator;hal")
 set(allowed_host_sim/io "estimator")
 set(allowed_host_sim/plant "")
 set(allowed_host_sim/stats "")
-set(allowed_host_sim/sim "io;plant;estimator")
+# sim -> firmware: a simulated run applies the device's own validation excitation (fw::ValidationExcitation) to a
+# fw::RunDesign, so simulated and firmware recordings of one config compare; firmware is header-only and host-free.
+set(allowed_host_sim/sim "io;plant;estimator;firmware")
 set(allowed_host_sim/identify "io;estimator")
-set(allowed_host_sim/paper "sim;identify;io;plant;estimator")
+set(allowed_host_sim/paper "sim;identify;io;plant;estimator;firmware")
 set(allowed_host_sim/analysis "io;plant;stats;estimator")
 set(allowed_host_sim/diagnose "analysis;identify;stats;io;plant;estimator")
 set(allowed_host_sim/operator_fit "io;plant;stats")

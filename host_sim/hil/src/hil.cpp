@@ -20,6 +20,7 @@
 #include "lashid/hal/link_protocol.hpp"
 #include "lashid/hil/qemu_args.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "played_run.hpp"
 #include "reports.hpp"
 
 extern char** environ;
@@ -76,11 +77,12 @@ void write_all(int fd, const std::vector<std::uint8_t>& bytes) {
   }
 }
 
-// The host's side of the plant port: answers kActuate(t, v) with kMeasurement(t, y), stepping the plant once per t.
+// The host's side of the plant port: answers kActuate(t, v) with kMeasurement(t, y), stepping the plant once per t
+// and recording each t once (retries are answered from the cache, not recorded again).
 class PlantPeer {
  public:
-  PlantPeer(const Scenario& scenario, std::uint64_t seed, int corrupt_every, HilResult& result)
-      : plant_(scenario, seed), corrupt_every_(corrupt_every), result_(result) {}
+  PlantPeer(AnyPlant plant, RunRecorder* recorder, int corrupt_every, HilResult& result)
+      : plant_(std::move(plant)), recorder_(recorder), corrupt_every_(corrupt_every), result_(result) {}
 
   // Returns the bytes to send back for the received bytes.
   std::vector<std::uint8_t> receive(const std::uint8_t* data, std::size_t size) {
@@ -99,6 +101,7 @@ class PlantPeer {
       }
       if (t == next_t_) {  // a new sample: step the plant (the command as the firmware sent it, a float)
         last_y_ = static_cast<float>(plant_.step(static_cast<double>(v)));
+        if (recorder_ != nullptr) recorder_->sample(t, v, last_y_);
         ++next_t_;
         ++result_.samples;
       } else if (next_t_ > 0 && t == next_t_ - 1) {  // a repeat after a lost/damaged answer: same y
@@ -121,7 +124,8 @@ class PlantPeer {
   }
 
  private:
-  ScenarioPlant plant_;
+  AnyPlant plant_;
+  RunRecorder* recorder_;
   int corrupt_every_;
   HilResult& result_;
   link::FrameDecoder decoder_;
@@ -201,13 +205,13 @@ void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_
 
 // Sends start, plays the plant and collects the reports, until QEMU exits (started by us) or the firmware's kDone
 // frame arrives (attached: QEMU belongs to the user).
-void run_session(const HilOptions& options, const Scenario& scenario, pid_t& qemu, int& link_fd, int& plant_fd,
-                 int& out_fd, HilResult& result) {
+void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, pid_t& qemu, int& link_fd,
+                 int& plant_fd, int& out_fd, HilResult& result) {
   link::PayloadWriter start;
   start.u8(static_cast<std::uint8_t>(link::Command::kStart));
   write_all(link_fd, frame(link::MessageType::kCommand, start));
 
-  PlantPeer peer(scenario, options.seed, options.corrupt_every, result);
+  PlantPeer peer(std::move(plant), recorder, options.corrupt_every, result);
   link::FrameDecoder link_decoder;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
   std::uint8_t buffer[4096];
@@ -281,8 +285,12 @@ HilResult run_hil(const HilOptions& options) {
   if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
   }
-  const Scenario& scenario = find_scenario(options.scenario);
-  (void)firmware_config_of(scenario);  // the plant played must have the design the firmware was built for
+  // The design the firmware runs (a paper image's: its scenario must have that design), the plant played (the
+  // scenario's or a plant file's) and the recording, opened before QEMU starts (played_run.hpp).
+  const fw::RunDesign design = detail::run_design_of(options);
+  AnyPlant plant = detail::played_plant(options, design);
+  std::optional<RunRecorder> recorder;
+  detail::start_recording(recorder, options, design);
   char dir_template[] = "/tmp/lashid-hil-XXXXXX";
   if (::mkdtemp(dir_template) == nullptr) fail("mkdtemp");
   const std::filesystem::path dir(dir_template);
@@ -307,12 +315,28 @@ HilResult run_hil(const HilOptions& options) {
     } else {
       start_qemu(options, dir, qemu, link_fd, plant_fd, out_fd);
     }
-    run_session(options, scenario, qemu, link_fd, plant_fd, out_fd, result);
-  } catch (...) {
+    run_session(options, std::move(plant), recorder ? &*recorder : nullptr, qemu, link_fd, plant_fd, out_fd, result);
+  } catch (const std::exception& e) {
     cleanup();
-    throw;
+    if (!recorder) throw;
+    // A run that stops early keeps what it measured; the run's own error stays the one reported.
+    std::string kept;
+    try {
+      detail::finish_recording(recorder, fmt::format("the host stopped the run: {}", e.what()), result);
+      kept = fmt::format("{} samples measured before it are in {} (marked partial)", result.recorded, options.record);
+    } catch (const std::exception& r) {
+      kept = fmt::format("no recording written: {}", r.what());
+    }
+    throw std::runtime_error(fmt::format("{}; {}", e.what(), kept));
   }
   cleanup();
+  detail::finish_recording(recorder,
+                           fmt::format("the firmware's run ended with {}, QEMU exit status {}",
+                                       result.done < 0 ? std::string("no report")
+                                                       : fmt::format("status '{}'", fw::to_string(
+                                                                         static_cast<fw::RunStatus>(result.done))),
+                                       result.qemu_exit),
+                           result);
   return result;
 }
 

@@ -1,6 +1,7 @@
 // The firmware on the in-process host board, and which firmware configuration belongs to which scenario.
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hil/hil.hpp"
+#include "played_run.hpp"
 #include "reports.hpp"
 
 namespace lashid::sim {
@@ -83,6 +85,23 @@ int run_firmware(ScenarioBoard& board) {
   return static_cast<int>(firmware.run());
 }
 
+// The compiled configuration as the run-time design of a run: what the image executes (no validation phase).
+template <fw::FirmwareConfig C>
+fw::RunDesign run_design_of_config() {
+  fw::RunDesign d;
+  d.op = C::kCheckInterval ? fw::OperatorKind::kBacklash : fw::OperatorKind::kSwitch;
+  d.n = static_cast<std::uint8_t>(C::kOrder);
+  d.m = static_cast<std::uint8_t>(C::kPoints);
+  d.v_min = C::kVMin;
+  d.v_max = C::kVMax;
+  std::copy(C::kVd.begin(), C::kVd.end(), d.V_d.begin());
+  std::copy(C::kVa.begin(), C::kVa.end(), d.V_a.begin());
+  d.step_length = static_cast<std::uint32_t>(C::kStepLength);
+  d.pulse_length_d = static_cast<std::uint32_t>(C::kPulseLengthD);
+  d.pulse_length_a = static_cast<std::uint32_t>(C::kPulseLengthA);
+  return d;
+}
+
 // The firmware images (firmware/CMakeLists.txt: one per configuration of paper_configs.hpp) and the scenario whose
 // plant each was configured for.
 struct FirmwareBuild {
@@ -90,11 +109,14 @@ struct FirmwareBuild {
   std::string_view config;
   std::vector<std::string> (*differences)(const Scenario&);
   int (*run)(ScenarioBoard&);
+  fw::RunDesign (*design)();
 };
 
 constexpr std::array<FirmwareBuild, 2> kFirmwareBuilds{{
-    {"dis_paper", "DisPaperConfig", &design_differences<fw::DisPaperConfig>, &run_firmware<fw::DisPaperConfig>},
-    {"ais_paper", "AisPaperConfig", &design_differences<fw::AisPaperConfig>, &run_firmware<fw::AisPaperConfig>},
+    {"dis_paper", "DisPaperConfig", &design_differences<fw::DisPaperConfig>, &run_firmware<fw::DisPaperConfig>,
+     &run_design_of_config<fw::DisPaperConfig>},
+    {"ais_paper", "AisPaperConfig", &design_differences<fw::AisPaperConfig>, &run_firmware<fw::AisPaperConfig>,
+     &run_design_of_config<fw::AisPaperConfig>},
 }};
 
 const FirmwareBuild& firmware_build(const Scenario& scenario) {
@@ -116,15 +138,29 @@ const FirmwareBuild& firmware_build(const Scenario& scenario) {
 
 std::string_view firmware_config_of(const Scenario& scenario) { return firmware_build(scenario).config; }
 
+fw::RunDesign firmware_design_of(const Scenario& scenario) { return firmware_build(scenario).design(); }
+
 ScenarioBoard make_scenario_board(const Scenario& scenario, std::uint64_t seed) {
-  return ScenarioBoard(ScenarioPlant(scenario, seed), static_cast<float>(scenario.config.v_min),
+  return ScenarioBoard(AnyPlant(ScenarioPlant(scenario, seed)), static_cast<float>(scenario.config.v_min),
                        static_cast<float>(scenario.config.v_max));
 }
 
 HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed) {
-  const Scenario& scenario = find_scenario(scenario_name);
-  const FirmwareBuild& build = firmware_build(scenario);
-  ScenarioBoard board = make_scenario_board(scenario, seed);
+  HilOptions options;
+  options.scenario = scenario_name;
+  options.seed = seed;
+  return run_on_host_board(options);
+}
+
+HilResult run_on_host_board(const HilOptions& options) {
+  if (options.design) {
+    throw std::invalid_argument("hil: the in-process board runs the paper images' compiled designs only");
+  }
+  const FirmwareBuild& build = firmware_build(find_scenario(options.scenario));
+  const fw::RunDesign design = build.design();
+  std::optional<RunRecorder> recorder;
+  detail::start_recording(recorder, options, design);
+  ScenarioBoard board(detail::played_plant(options, design), design.v_min, design.v_max);
   HilResult result;
   result.done = build.run(board);
   hal::link::FrameDecoder decoder;
@@ -132,6 +168,14 @@ HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed
     if (decoder.push(b) == hal::link::FrameDecoder::Result::kFrame) detail::collect(decoder.frame(), result);
   }
   result.samples = static_cast<std::uint32_t>(board.exchanges().size());
+  if (recorder) {
+    std::uint64_t t = 0;
+    for (const auto& e : board.exchanges()) recorder->sample(t++, e.v, e.y);
+    detail::finish_recording(recorder,
+                             fmt::format("the firmware ended with status '{}'",
+                                         fw::to_string(static_cast<fw::RunStatus>(result.done))),
+                             result);
+  }
   return result;
 }
 

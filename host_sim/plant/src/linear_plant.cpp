@@ -56,6 +56,27 @@ double GaussianNoise::next() {
   return standard_deviation_ * (radius * std::cos(angle));
 }
 
+Ar1Noise::Ar1Noise(double standard_deviation, double pole, std::uint64_t seed)
+    : unit_(1.0, seed),
+      standard_deviation_(standard_deviation),
+      pole_(pole),
+      innovation_scale_(standard_deviation * std::sqrt(1.0 - pole * pole)) {
+  if (!std::isfinite(standard_deviation) || standard_deviation < 0.0) {
+    throw std::invalid_argument("Ar1Noise: standard deviation must be finite and >= 0, got " +
+                                std::to_string(standard_deviation));
+  }
+  if (!(std::fabs(pole) < 1.0)) {
+    throw std::invalid_argument("Ar1Noise: pole must lie in (-1, 1), got " + std::to_string(pole));
+  }
+}
+
+double Ar1Noise::next() {
+  const double z = unit_.next();
+  e_ = started_ ? pole_ * e_ + innovation_scale_ * z : standard_deviation_ * z;
+  started_ = true;
+  return e_;
+}
+
 LinearPlant::LinearPlant(LinearModel model, double noise_variance, std::uint64_t seed)
     : model_(checked_model(std::move(model))),
       noise_(noise_variance, seed),

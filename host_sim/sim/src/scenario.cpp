@@ -143,36 +143,33 @@ ScenarioPlant::ScenarioPlant(const Scenario& scenario, std::uint64_t seed, doubl
 double ScenarioPlant::step(double v) { return plant_.step(operator_->step(v)); }
 
 Recording simulate(const Scenario& scenario, const SimulationOptions& options) {
-  const ExperimentConfig& c = scenario.config;
   ScenarioPlant plant(scenario, options.seed, options.input_lag);
+  const PhaseLengths lengths{scenario.step_length_d, scenario.pulse_length_d, scenario.step_length_a,
+                             scenario.pulse_length_a, scenario.validation_length};
+  return simulate_phases(scenario.config, lengths, options, [&plant](double v) { return plant.step(v); });
+}
+
+Recording simulate_phases(const ExperimentConfig& c, const PhaseLengths& lengths, const SimulationOptions& options,
+                          const std::function<double(double)>& plant) {
   Recording rec;
-  const auto run = [&](Phase phase, std::int64_t length, auto input) {
-    for (std::int64_t t = 0; t < length; ++t) {
-      const double v = input(t);
-      rec.append(phase, v, plant.step(v));
-    }
+  const auto run = [&](Phase phase, const std::vector<double>& input) {
+    for (const double v : input) rec.append(phase, v, plant(v));
   };
   const auto scheme_phases = [&](est::Scheme scheme, Phase step, std::int64_t step_length, Phase pulse,
                                   std::int64_t pulse_length) {
-    const std::vector<double> v_step = excitation(c, scheme, Experiment::kStep, step_length + 1);
-    run(step, step_length + 1, [&](std::int64_t t) { return v_step[static_cast<std::size_t>(t)]; });
-    const std::vector<double> v_pulse = excitation(c, scheme, Experiment::kPulse, pulse_length);
-    run(pulse, pulse_length, [&](std::int64_t t) { return v_pulse[static_cast<std::size_t>(t)]; });
+    run(step, excitation(c, scheme, Experiment::kStep, step_length + 1));
+    run(pulse, excitation(c, scheme, Experiment::kPulse, pulse_length));
   };
   if (options.dis_phases) {
-    scheme_phases(est::Scheme::kDescending, Phase::kStepD, scenario.step_length_d, Phase::kDis,
-                  scenario.pulse_length_d);
+    scheme_phases(est::Scheme::kDescending, Phase::kStepD, lengths.step_d, Phase::kDis, lengths.pulse_d);
   }
   if (options.ais_phases) {
-    scheme_phases(est::Scheme::kAscending, Phase::kStepA, scenario.step_length_a, Phase::kAis,
-                  scenario.pulse_length_a);
+    scheme_phases(est::Scheme::kAscending, Phase::kStepA, lengths.step_a, Phase::kAis, lengths.pulse_a);
   }
   if (options.validation_phase) {
-    const auto v = options.validation_input.empty()
-                       ? validation_input(c.v_min, c.v_max, scenario.validation_length, options.seed)
-                       : options.validation_input;
-    run(Phase::kVal, static_cast<std::int64_t>(v.size()),
-        [&](std::int64_t t) { return v[static_cast<std::size_t>(t)]; });
+    run(Phase::kVal, options.validation_input.empty()
+                         ? validation_input(c.v_min, c.v_max, lengths.validation, options.seed)
+                         : options.validation_input);
   }
   return rec;
 }

@@ -10,7 +10,9 @@
 #include <vector>
 
 #include "lashid/firmware/messages.hpp"
+#include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/host_board.hpp"
+#include "lashid/hil/any_plant.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::sim {
@@ -29,6 +31,11 @@ struct HilOptions {
   double timeout_seconds = 300;         ///< wall-clock limit for the whole run; QEMU is killed after it
   int corrupt_every = 0;                ///< > 0: flip one bit in every k-th measurement frame (fault injection)
   bool icount = false;                  ///< QEMU -icount shift=0: deterministic cycle counts, much slower I/O
+  // Issue 10, plant files and recording:
+  std::string plant_file;               ///< play this plant file (io/plant_file.hpp) instead of the scenario's plant
+  std::string record;                   ///< write every exchanged sample here as a recording (run_recording.hpp)
+  /// The design the firmware runs. Unset: the compiled design of `scenario`'s paper image (firmware_design_of).
+  std::optional<fw::RunDesign> design;
 };
 
 struct HilResult {
@@ -42,6 +49,8 @@ struct HilResult {
   std::uint32_t protocol_errors = 0;  ///< frames the host dropped (checksum/length) or could not use
   std::uint32_t corrupted_by_host = 0;  ///< frames deliberately damaged (corrupt_every)
   std::string console;                ///< what the firmware printed (semihosting)
+  std::uint64_t recorded = 0;         ///< samples written to HilOptions::record
+  bool recording_complete = false;    ///< every sample of the design's phases was recorded
 };
 
 /// A qemu-system-arm command line for an mps2 image: the machine, the project's machine-independent flags
@@ -62,18 +71,25 @@ std::vector<std::string> qemu_command_line(const QemuCommand& command);
 /// lengths) differs from the configuration's: the firmware would run other experiments than the host plays.
 std::string_view firmware_config_of(const Scenario& scenario);
 
-/// Runs QEMU with the firmware and plays the scenario's plant. Throws std::runtime_error when QEMU cannot be
+/// The design the paper image of `scenario` runs, as a run-time design (val_length 0: the paper images have no
+/// validation phase). Throws as firmware_config_of.
+fw::RunDesign firmware_design_of(const Scenario& scenario);
+
+/// Runs QEMU with the firmware and plays the scenario's plant (or options.plant_file's), recording the exchanged
+/// samples to options.record if set (also when the run stops early: the recording is then marked partial). Throws std::runtime_error when QEMU cannot be
 /// started, a socket fails, or the time limit is exceeded; std::invalid_argument when the scenario has no firmware
 /// configuration of the same design (firmware_config_of).
 HilResult run_hil(const HilOptions& options);
 
-/// The firmware's board on the PC with a scenario's plant in-process: the same plant `lashid hil` plays over the
-/// UART, stepped directly.
-using ScenarioBoard = hal::HostBoard<ScenarioPlant>;
+/// The firmware's board on the PC with the played plant in-process (a scenario's or a plant file's): the same plant
+/// `lashid hil` plays over the UART, stepped directly.
+using ScenarioBoard = hal::HostBoard<AnyPlant>;
 ScenarioBoard make_scenario_board(const Scenario& scenario, std::uint64_t seed);
 
 /// The same firmware (same configuration) on the in-process host board with the same scenario and seed: the
 /// reference the QEMU run must equal within float32 rounding.
 HilResult run_on_host_board(const std::string& scenario, std::uint64_t seed);
+/// The same with the plant and the recording of `options` (plant_file, record); the QEMU fields are not used.
+HilResult run_on_host_board(const HilOptions& options);
 
 }  // namespace lashid::sim

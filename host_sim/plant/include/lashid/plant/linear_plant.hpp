@@ -31,6 +31,24 @@ class GaussianNoise {
   bool has_spare_ = false;
 };
 
+// Coloured measurement noise: the stationary AR(1) process e(t) = c e(t-1) + w(t), w white Gaussian of variance
+// s^2 (1 - c^2), whose stationary standard deviation is s. e(0) is drawn from the stationary law (variance s^2), so
+// the noise is stationary from its first sample instead of growing in from zero.
+class Ar1Noise {
+ public:
+  // Throws std::invalid_argument for a negative or non-finite s, or a pole c outside (-1, 1).
+  Ar1Noise(double standard_deviation, double pole, std::uint64_t seed);
+  double next();
+
+ private:
+  GaussianNoise unit_;  // z(t) ~ N(0, 1)
+  double standard_deviation_;
+  double pole_;
+  double innovation_scale_;  // s sqrt(1 - c^2)
+  double e_ = 0.0;
+  bool started_ = false;
+};
+
 // y(t) = -sum_i a_i y(t-i) + sum_i b_i u(t-i) + xi(t); the past starts at zero.
 class LinearPlant {
  public:

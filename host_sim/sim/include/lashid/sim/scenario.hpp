@@ -64,6 +64,22 @@ class ScenarioPlant {
 /// Deterministic for a seed: the noise stream and the validation input use separate generators seeded from it.
 Recording simulate(const Scenario& scenario, const SimulationOptions& options);
 
+/// Samples per phase: step_d has step_d + 1 samples (t = 0..L), dis has pulse_d, and so on.
+struct PhaseLengths {
+  int step_d = 2000;
+  int pulse_d = 2000;
+  int step_a = 2000;
+  int pulse_a = 2000;
+  int validation = 2000;
+};
+
+/// The five-phase driver behind simulate(): the phases of `options` with the design `config` on any plant,
+/// `plant(v)` returning y, called once per sample in recording order. The step and pulse inputs come from the
+/// estimator's excitation generator; val is options.validation_input, or validation_input(v_min, v_max,
+/// lengths.validation, options.seed) when that is empty. options.input_lag is the caller's business (the plant's).
+Recording simulate_phases(const ExperimentConfig& config, const PhaseLengths& lengths,
+                          const SimulationOptions& options, const std::function<double(double)>& plant);
+
 /// The true parameters in the scaling of (3.11c), obtained by replaying the experiments' inputs on the scenario's
 /// operator alone (from its initial state): u at the held level after the step (u_M for (3.4), u_m for (4.1)) and
 /// u at each pulse of the second period (F^d(V_j) of (3.2), F^a(V_j)); ybar0 = B(1) u_held / A(1). If the borders

@@ -1,0 +1,60 @@
+// The design, the plant and the recorder of a firmware run, shared by the QEMU loop (hil.cpp) and the in-process
+// board (host_board_run.cpp).
+#include "played_run.hpp"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "lashid/io/plant_file.hpp"
+#include "lashid/sim/file_plant.hpp"
+
+namespace lashid::sim::detail {
+
+fw::RunDesign run_design_of(const HilOptions& options) {
+  if (options.design) return *options.design;
+  if (options.scenario.empty()) {
+    throw std::invalid_argument("hil: no design: name the scenario whose paper image runs (--scenario)");
+  }
+  return firmware_design_of(find_scenario(options.scenario));
+}
+
+AnyPlant played_plant(const HilOptions& options, const fw::RunDesign& design) {
+  if (options.plant_file.empty()) return AnyPlant(ScenarioPlant(find_scenario(options.scenario), options.seed));
+  const PlantSpec spec = read_plant_json(options.plant_file);
+  const auto v_min = static_cast<double>(design.v_min), v_max = static_cast<double>(design.v_max);
+  check_plant_covers(spec, v_min, v_max, options.plant_file);
+  return AnyPlant(FilePlant(spec, v_min, options.seed));
+}
+
+void start_recording(std::optional<RunRecorder>& recorder, const HilOptions& options, const fw::RunDesign& design) {
+  if (options.record.empty()) return;
+  const std::string plant = options.plant_file.empty() ? fmt::format("scenario {}", options.scenario)
+                                                       : fmt::format("plant file {}", options.plant_file);
+  std::vector<std::string> comments{
+      fmt::format("lashid hil: {}, {}, seed {}", options.firmware.empty() ? "attached QEMU" : options.firmware,
+                  plant, options.seed),
+      "v: the command the firmware sent; y: the measurement the host answered (both float32, as on the link)",
+      fmt::format("design: {}, n = {}, m = {}, [v_min, v_max] = [{}, {}], L = {}, N_d = {}, N_a = {}, val {} "
+                  "samples (seed {})",
+                  design.op == fw::OperatorKind::kBacklash ? "backlash" : "switch", design.n, design.m,
+                  design.v_min, design.v_max, design.step_length, design.pulse_length_d, design.pulse_length_a,
+                  design.val_length, design.val_seed)};
+  if (const std::uint64_t check = interval_check_samples(design); check > 0) {
+    comments.push_back(fmt::format("the interval check (the run's first {} samples) is not recorded: the data format "
+                                   "has no phase for it",
+                                   check));
+  }
+  recorder.emplace(options.record, design, comments);
+}
+
+void finish_recording(std::optional<RunRecorder>& recorder, std::string_view how_it_ended, HilResult& result) {
+  if (!recorder) return;
+  result.recorded = recorder->rows();
+  result.recording_complete = recorder->complete();
+  recorder->finish(how_it_ended);
+}
+
+}  // namespace lashid::sim::detail

@@ -1,0 +1,81 @@
+// Phases of a firmware run, and its recording while it runs.
+#include "lashid/hil/run_recording.hpp"
+
+#include <array>
+#include <utility>
+
+#include <fmt/format.h>
+
+namespace lashid::sim {
+
+std::uint64_t interval_check_samples(const fw::RunDesign& design) {
+  // The sequencer's kIntervalCheckSamples = 2 x kCheckHalf x kIntervalCheckPeriods = 2 x 2T x 4 (sequencer.hpp).
+  return design.checks_interval() ? std::uint64_t{16} * static_cast<std::uint64_t>(design.period()) : 0U;
+}
+
+namespace {
+
+// The recorded phases in run order, with their lengths.
+std::array<std::pair<Phase, std::uint64_t>, kPhaseCount> phase_blocks(const fw::RunDesign& d) {
+  const std::uint64_t step = std::uint64_t{d.step_length} + 1U;
+  return {{{Phase::kStepD, step},
+           {Phase::kDis, d.pulse_length_d},
+           {Phase::kStepA, step},
+           {Phase::kAis, d.pulse_length_a},
+           {Phase::kVal, d.val_length}}};
+}
+
+}  // namespace
+
+std::uint64_t recorded_samples(const fw::RunDesign& design) {
+  std::uint64_t total = 0;
+  for (const auto& [phase, length] : phase_blocks(design)) total += length;
+  return total;
+}
+
+RunSamplePlace place_of_sample(const fw::RunDesign& design, std::uint64_t k) {
+  const std::uint64_t check = interval_check_samples(design);
+  if (k < check) return {RunSamplePlace::Part::kIntervalCheck, Phase::kStepD, k};
+  std::uint64_t start = check;
+  for (const auto& [phase, length] : phase_blocks(design)) {
+    if (k < start + length) return {RunSamplePlace::Part::kPhase, phase, k - start};
+    start += length;
+  }
+  return {RunSamplePlace::Part::kAfterRun, Phase::kVal, k - start};
+}
+
+RunRecorder::RunRecorder(const std::filesystem::path& path, const fw::RunDesign& design,
+                         const std::vector<std::string>& comment_lines)
+    : stream_(path, comment_lines), design_(design) {}
+
+void RunRecorder::sample(std::uint64_t t, float v, float y) {
+  if (t < next_t_ || gap_) return;  // a retry of a recorded t, or past a lost sample
+  if (t > next_t_) {
+    gap_ = true;
+    stream_.comment(fmt::format("sample t = {} of the run never arrived: nothing after it is recorded", next_t_));
+    return;
+  }
+  ++next_t_;
+  const RunSamplePlace place = place_of_sample(design_, t);
+  if (place.part == RunSamplePlace::Part::kIntervalCheck) return;
+  if (place.part == RunSamplePlace::Part::kAfterRun) {
+    ++beyond_design_;
+    return;
+  }
+  stream_.append(place.phase, static_cast<double>(v), static_cast<double>(y));
+}
+
+void RunRecorder::finish(std::string_view how_it_ended) {
+  if (beyond_design_ > 0) {
+    stream_.comment(fmt::format("{} samples after the design's last one were exchanged and not recorded: the "
+                                "firmware ran a longer design than the host assumed",
+                                beyond_design_));
+  }
+  if (!complete()) {
+    stream_.comment(fmt::format("partial recording: {}; {} of the design's {} samples were measured", how_it_ended,
+                                stream_.rows(), recorded_samples(design_)));
+  }
+  stream_.finish();
+}
+
+}  // namespace lashid::sim
