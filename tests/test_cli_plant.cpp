@@ -1,0 +1,122 @@
+// `lashid simulate --plant` and the plant-file options of `lashid hil`, through the real executable: the options,
+// the five phases with the config's lengths, a recording `identify` turns into the plant file's A, and errors that
+// name the file and the key.
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+
+namespace {
+
+using nlohmann::json;
+using namespace lashid::test;
+
+class CliPlant : public LashidExeTest {
+ protected:
+  void write(const std::string& name, const json& value) const { std::ofstream(work_ / name) << value.dump(2); }
+
+  // A switch with straight borders and A = 1 - 0.6 q^-1, B = 0.8 q^-1, a little equation noise.
+  static json plant() {
+    return {{"name", "bench actuator"},
+            {"operator", "switch"},
+            {"borders", {{"v", {-2, 2}}, {"ascending", {-1.5, 0.5}}, {"descending", {-0.5, 1.5}}}},
+            {"a", {-0.6}},
+            {"b", {0.8}},
+            {"equation_noise_std", 0.001}};
+  }
+  static json config() {
+    return {{"n", 1}, {"m", 2}, {"v_min", -2}, {"v_max", 2}, {"V_d", {-2, 0}}, {"V_a", {2, 0}},
+            {"operator", "switch"}};
+  }
+
+  // Rows per phase of a recording, read as text.
+  std::map<std::string, int> rows_per_phase(const std::string& name) const {
+    std::map<std::string, int> rows;
+    std::istringstream in(slurp(work_ / name));
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line.starts_with('#') || line == "phase,t,v,y") continue;
+      ++rows[line.substr(0, line.find(','))];
+    }
+    return rows;
+  }
+};
+
+TEST_F(CliPlant, HelpNamesThePlantOptions) {
+  const Outcome simulate = run({"simulate", "--help"});
+  ASSERT_EQ(simulate.exit_code, 0) << simulate;
+  for (const char* option : {"--plant", "--config", "--scenario"}) EXPECT_TRUE(Contains(simulate.out, option));
+  const Outcome hil = run({"hil", "--help"});
+  ASSERT_EQ(hil.exit_code, 0) << hil;
+  for (const char* option : {"--plant", "--record"}) EXPECT_TRUE(Contains(hil.out, option));
+}
+
+// Without length keys the config's design has L = N_d = N_a = 2000 and 2000 val samples (docs/data-format.md).
+TEST_F(CliPlant, SimulateWritesFivePhasesWithTheDesignLengthsAndIdentifyRecoversA) {
+  write("plant.json", plant());
+  write("cfg.json", config());
+  const Outcome r = run({"simulate", "--plant", "plant.json", "--config", "cfg.json", "--seed", "4", "--out",
+                         "rec.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "plant.json: key 'name' is not a plant-file key; ignored"));
+  const std::map<std::string, int> expected{{"step_d", 2001}, {"dis", 2000}, {"step_a", 2001}, {"ais", 2000},
+                                            {"val", 2000}};
+  EXPECT_EQ(rows_per_phase("rec.csv"), expected);
+
+  const Outcome id = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"});
+  ASSERT_EQ(id.exit_code, 0) << id;
+  const json est = json::parse(slurp(work_ / "est.json"));
+  for (const char* scheme : {"dis", "ais"}) EXPECT_NEAR(est.at(scheme).at("a").at(0).get<double>(), -0.6, 0.01);
+}
+
+TEST_F(CliPlant, AMalformedPlantFileIsNamedWithItsKeyAndNothingIsWritten) {
+  json bad = plant();
+  bad["sensor_noise"] = {{"std", 0.1}, {"pole", 1.2}};
+  write("plant.json", bad);
+  write("cfg.json", config());
+  const Outcome r = run({"simulate", "--plant", "plant.json", "--config", "cfg.json", "--out", "rec.csv"});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(Contains(r.err, "lashid: error: plant.json: 'sensor_noise.pole' = 1.2 must lie in (-1, 1)"));
+  EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
+}
+
+TEST_F(CliPlant, ABorderGridThatMissesTheIntervalAndADesignTheDeviceRefusesAreErrors) {
+  json narrow = plant();
+  narrow["borders"]["v"] = {-1, 2};
+  write("plant.json", narrow);
+  write("cfg.json", config());
+  const Outcome r = run({"simulate", "--plant", "plant.json", "--config", "cfg.json", "--out", "rec.csv"});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(Contains(r.err, "plant.json: 'borders.v' covers [-1, 2]"));
+
+  write("plant.json", plant());
+  json dis_only = config();
+  dis_only.erase("V_a");
+  write("dis.json", dis_only);
+  const Outcome d = run({"simulate", "--plant", "plant.json", "--config", "dis.json", "--out", "rec.csv"});
+  EXPECT_EQ(d.exit_code, 1) << d;
+  EXPECT_TRUE(Contains(d.err, "dis.json: a device run has both schemes: the config needs V_d and V_a"));
+  EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
+}
+
+TEST_F(CliPlant, PlantOptionsThatDoNotGoTogetherAreRefused) {
+  write("plant.json", plant());
+  write("cfg.json", config());
+  const std::vector<std::vector<std::string>> wrong{
+      {"simulate", "--plant", "plant.json", "--out", "rec.csv"},                       // no --config
+      {"simulate", "--config", "cfg.json", "--scenario", "dis_paper", "--out", "rec.csv"},  // --config without --plant
+      {"simulate", "--plant", "plant.json", "--config", "cfg.json", "--scenario", "dis_paper", "--out", "rec.csv"},
+      {"simulate", "--plant", "plant.json", "--config", "cfg.json", "--input-lag", "0.2", "--out", "rec.csv"},
+      {"simulate", "--out", "rec.csv"},                                                 // neither
+  };
+  for (const auto& args : wrong) {
+    const Outcome r = run(args);
+    EXPECT_NE(r.exit_code, 0) << r;
+  }
+  EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
+}
+
+}  // namespace
