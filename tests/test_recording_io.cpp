@@ -2,6 +2,7 @@
 // and is atomic.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <bit>
 #include <cmath>
@@ -313,6 +314,18 @@ TEST_F(RecordingFiles, DirectoryAtTheTargetIsRefusedAndLeavesNothing) {
                        blocking.string() + ": cannot write: it is a directory, not a file"));
   EXPECT_EQ(entries_in_dir(), 1U);  // only the blocking directory
   EXPECT_TRUE(fs::is_directory(blocking / "child"));
+}
+
+// The content is renamed onto the target: a pipe (or a device such as /dev/null) must not become a plain file.
+TEST_F(RecordingFiles, ANonRegularTargetIsRefusedAndKept) {
+  const fs::path pipe = dir_ / "pipe.csv";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  Recording recording;
+  recording.append(Phase::kVal, 1.0, 2.0);
+  EXPECT_TRUE(Contains(error_of([&] { write_recording_csv(pipe, recording, {}); }),
+                       pipe.string() + ": cannot write: it exists and is not a regular file"));
+  EXPECT_TRUE(fs::is_fifo(pipe));
+  EXPECT_EQ(entries_in_dir(), 1U);
 }
 
 TEST_F(RecordingFiles, WriteFileAtomicallyRejectsDirectoryPath) {

@@ -50,6 +50,10 @@ void check_can_write(const fs::path& path) {
   if (!path.has_filename()) throw DataError(name, "cannot write: the path names a directory, not a file");
   std::error_code ignored;
   if (fs::is_directory(path, ignored)) throw DataError(name, "cannot write: it is a directory, not a file");
+  // The content is renamed onto the target: a device or pipe (`--out /dev/null`) would be replaced by a plain file.
+  if (fs::exists(path, ignored) && !fs::is_regular_file(path, ignored)) {
+    throw DataError(name, "cannot write: it exists and is not a regular file (a device or a pipe would be replaced)");
+  }
   const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code error;
   const fs::file_status directory_status = fs::status(directory, error);

@@ -13,7 +13,8 @@ namespace lashid::sim {
 // Reads a whole file as bytes. Throws DataError naming `path` (not found, a directory, unreadable).
 std::string read_file_text(const std::filesystem::path& path);
 
-// Throws DataError when `path` cannot be written as a file: it names a directory, or its directory is missing.
+// Throws DataError when `path` cannot be written as a file: it names a directory or an existing non-regular file
+// (a device, a pipe: the atomic rename would replace it), or its directory is missing.
 // write_file_atomically() checks this first; a command writing several files checks them all before writing any.
 void check_can_write(const std::filesystem::path& path);
 
