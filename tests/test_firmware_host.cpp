@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "lashid/firmware/paper_configs.hpp"
+#include "lashid/firmware/paper_run_designs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hal/remote_plant_port.hpp"
 #include "lashid/hil/hil.hpp"
@@ -55,7 +55,7 @@ TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
   // AIS example (switch: no interval check), so the firmware's samples are exactly simulate()'s phases.
   const sim::Scenario& s = sim::find_scenario("ais_paper");
   sim::ScenarioBoard board = sim::make_scenario_board(s, 7);
-  fw::IdentificationSequencer<sim::ScenarioBoard, fw::AisPaperConfig> firmware(board);
+  fw::IdentificationSequencer<sim::ScenarioBoard> firmware(board, fw::kAisPaperRun);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
 
   sim::SimulationOptions options;
@@ -102,7 +102,7 @@ TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
 TEST(FirmwareOnHostBoard, DisExampleWithIntervalCheckIdentifiesTheBacklash) {
   const sim::Scenario& s = sim::find_scenario("dis_paper");
   sim::ScenarioBoard board = sim::make_scenario_board(s, 3);
-  fw::IdentificationSequencer<sim::ScenarioBoard, fw::DisPaperConfig> firmware(board);
+  fw::IdentificationSequencer<sim::ScenarioBoard> firmware(board, fw::kDisPaperRun);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
   const Reports r = reports_of(board);
   ASSERT_EQ(r.estimates.size(), 2u);
@@ -119,12 +119,14 @@ TEST(FirmwareOnHostBoard, DisExampleWithIntervalCheckIdentifiesTheBacklash) {
 }
 
 // Fig. 5: a backlash whose play is wider than the interval freezes after one cycle; the firmware must refuse.
-struct NarrowIntervalConfig : fw::DisPaperConfig {
-  static constexpr float kVMin = -0.5f;
-  static constexpr float kVMax = 0.5f;
-  static constexpr std::array<float, 6> kVd{-0.5f, -0.3f, -0.1f, 0.1f, 0.2f, 0.3f};
-  static constexpr std::array<float, 6> kVa{0.5f, 0.3f, 0.1f, -0.1f, -0.2f, -0.3f};
-};
+fw::RunDesign narrow_interval_design() {
+  fw::RunDesign d = fw::kDisPaperRun;
+  d.v_min = -0.5f;
+  d.v_max = 0.5f;
+  d.V_d = {-0.5f, -0.3f, -0.1f, 0.1f, 0.2f, 0.3f};
+  d.V_a = {0.5f, 0.3f, 0.1f, -0.1f, -0.2f, -0.3f};
+  return d;
+}
 
 TEST(FirmwareOnHostBoard, RefusesAnIntervalTooNarrowForTheBacklash) {
   sim::Scenario s = sim::find_scenario("dis_paper");
@@ -137,7 +139,7 @@ TEST(FirmwareOnHostBoard, RefusesAnIntervalTooNarrowForTheBacklash) {
   };
   s.noise_variance = 1.0;
   sim::ScenarioBoard board = sim::make_scenario_board(s, 1);
-  fw::IdentificationSequencer<sim::ScenarioBoard, NarrowIntervalConfig> firmware(board);
+  fw::IdentificationSequencer<sim::ScenarioBoard> firmware(board, narrow_interval_design());
   EXPECT_EQ(firmware.run(), fw::RunStatus::kIntervalTooNarrow);
   EXPECT_EQ(reports_of(board).done, static_cast<int>(fw::RunStatus::kIntervalTooNarrow));
   EXPECT_EQ(board.exchanges().size(), 4u * 72);  // it stopped after the check
@@ -150,7 +152,7 @@ TEST(FirmwareOnHostBoard, CrossCheckFlagsAPlantThatIsNotSwitchOrBacklash) {
   const auto inner = s.make_operator;
   s.make_operator = [inner] { return std::make_unique<sim::InputLagOperator>(inner(), 0.6); };
   sim::ScenarioBoard board = sim::make_scenario_board(s, 1);
-  fw::IdentificationSequencer<sim::ScenarioBoard, fw::AisPaperConfig> firmware(board);
+  fw::IdentificationSequencer<sim::ScenarioBoard> firmware(board, fw::kAisPaperRun);
   (void)firmware.run();
   const Reports r = reports_of(board);
   EXPECT_EQ(r.cross.disagree, 1) << "max z " << r.cross.max_z;
@@ -177,7 +179,7 @@ TEST(FirmwareOnHostBoard, CountsTheSamplesTheEstimatorRejects) {
   // Sample 100 of the DIS step experiment; pulse samples 1000 and 5000 of the DP experiment (t = 0 at 2001).
   NanSensorBoard board(sim::make_scenario_board(s, 7), {100, 2001 + 1000, 2001 + 5000});
   static_assert(hal::Board<NanSensorBoard>);
-  fw::IdentificationSequencer<NanSensorBoard, fw::AisPaperConfig> firmware(board);
+  fw::IdentificationSequencer<NanSensorBoard> firmware(board, fw::kAisPaperRun);
   EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);  // the least squares on the rows used
   // The step sample, and per NaN pulse sample its own row and the n = 2 rows that hold it as a lag.
   EXPECT_EQ(firmware.cost().rejected_samples, 1u + 2u * (1 + 2));
@@ -193,13 +195,13 @@ TEST(FirmwareMessages, RecordSizesAndNames) {
   e.encode(w);
   EXPECT_TRUE(w.ok());
   EXPECT_EQ(w.size(), fw::EstimateRecord::encoded_size(2, 6));
-  // The largest orders the record holds do not fit a frame: the writer overflows (and the sequencer would not send).
+  // The largest design the image accepts (n = 4, m = 10) fits one frame: 4 bytes + 4 (2 + 4 n + m) = 116 <= 128.
   e.n = fw::kMaxRecordOrder;
   e.m = fw::kMaxRecordPoints;
   hal::link::PayloadWriter big;
   e.encode(big);
-  EXPECT_FALSE(big.ok());
-  EXPECT_EQ(fw::EstimateRecord::encoded_size(8, 16), 204u);
+  EXPECT_TRUE(big.ok());
+  EXPECT_EQ(big.size(), 116u);
   hal::link::PayloadWriter c;
   fw::CostRecord{}.encode(c);
   EXPECT_EQ(c.size(), fw::CostRecord::kEncodedSize);
@@ -236,7 +238,7 @@ std::vector<std::uint8_t> command(hal::link::Command c) {
 TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
   const sim::Scenario& s = sim::find_scenario("ais_paper");
   sim::ScenarioBoard board = sim::make_scenario_board(s, 1);
-  fw::IdentificationSequencer<sim::ScenarioBoard, fw::AisPaperConfig> firmware(board, /*auto_start=*/false);
+  fw::IdentificationSequencer<sim::ScenarioBoard> firmware(board);  // waits for a design and a start
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(firmware.step());
   EXPECT_EQ(firmware.stage(), fw::Stage::kIdle);
   EXPECT_TRUE(board.exchanges().empty());
@@ -248,6 +250,8 @@ TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
   EXPECT_EQ(frames[0].type, MessageType::kStatus);
   EXPECT_EQ(frames[0].payload[0], static_cast<std::uint8_t>(fw::Stage::kIdle));
 
+  const auto design = test::design_frame(fw::kAisPaperRun);
+  board.link_input(design.data(), design.size());
   const auto start = command(hal::link::Command::kStart);
   board.link_input(start.data(), start.size());
   for (int i = 0; i < 500; ++i) ASSERT_TRUE(firmware.step());

@@ -338,7 +338,7 @@ int main() {
       } else {
         failed_cycles += t1 - t0;
         ++failed_updates;
-        g_textbook.reset(W);
+        (void)g_textbook.reset(W);
       }
     }
     builder.push(g_v[t] - kVMax, y_tilde);

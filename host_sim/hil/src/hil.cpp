@@ -191,18 +191,30 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
   plant_fd = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
 }
 
-void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, HilResult& result) {
+void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, const HilOptions& options,
+               HilResult& result) {
   for (std::size_t i = 0; i < size; ++i) {
     const auto r = decoder.push(data[i]);
-    if (r == link::FrameDecoder::Result::kFrame) detail::collect(decoder.frame(), result);
     if (r == link::FrameDecoder::Result::kDropped) ++result.protocol_errors;
+    if (r != link::FrameDecoder::Result::kFrame) continue;
+    const link::Frame& f = decoder.frame();
+    detail::collect(f, result);
+    if (f.type == link::MessageType::kStatus && options.on_progress) {
+      auto reader = f.reader();
+      const auto stage = static_cast<fw::Stage>(reader.u8());
+      const std::uint32_t samples = reader.u32();
+      if (reader.ok()) options.on_progress(stage, samples);
+    }
   }
 }
 
-// Sends start, plays the plant and collects the reports, until QEMU exits (started by us) or the firmware's kDone
-// frame arrives (attached: QEMU belongs to the user).
-void run_session(const HilOptions& options, const Scenario& scenario, pid_t& qemu, int& link_fd, int& plant_fd,
-                 int& out_fd, HilResult& result) {
+// Sends the design and start, plays the plant and collects the reports, until QEMU exits (started by us) or the
+// firmware's kDone frame arrives (attached: QEMU belongs to the user).
+void run_session(const HilOptions& options, const Scenario& scenario, const fw::RunDesign& design, pid_t& qemu,
+                 int& link_fd, int& plant_fd, int& out_fd, HilResult& result) {
+  link::PayloadWriter design_payload;
+  design.encode(design_payload);
+  write_all(link_fd, frame(link::MessageType::kDesign, design_payload));
   link::PayloadWriter start;
   start.u8(static_cast<std::uint8_t>(link::Command::kStart));
   write_all(link_fd, frame(link::MessageType::kCommand, start));
@@ -229,7 +241,7 @@ void run_session(const HilOptions& options, const Scenario& scenario, pid_t& qem
       }
       const auto size = static_cast<std::size_t>(n);
       if (k == 0) {
-        feed_link(link_decoder, buffer, size, result);
+        feed_link(link_decoder, buffer, size, options, result);
       } else if (k == 1) {
         const auto reply = peer.receive(buffer, size);
         if (!reply.empty()) write_all(plant_fd, reply);
@@ -252,7 +264,7 @@ void run_session(const HilOptions& options, const Scenario& scenario, pid_t& qem
       ::fcntl(*fd, F_SETFL, O_NONBLOCK);
       for (ssize_t n = 0; (n = ::read(*fd, buffer, sizeof(buffer))) > 0;) {
         if (fd == &link_fd) {
-          feed_link(link_decoder, buffer, static_cast<std::size_t>(n), result);
+          feed_link(link_decoder, buffer, static_cast<std::size_t>(n), options, result);
         } else {
           result.console.append(reinterpret_cast<const char*>(buffer), static_cast<std::size_t>(n));
         }
@@ -282,7 +294,7 @@ HilResult run_hil(const HilOptions& options) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
   }
   const Scenario& scenario = find_scenario(options.scenario);
-  (void)firmware_config_of(scenario);  // the plant played must have the design the firmware was built for
+  const fw::RunDesign design = options.design ? *options.design : run_design_of(scenario);
   char dir_template[] = "/tmp/lashid-hil-XXXXXX";
   if (::mkdtemp(dir_template) == nullptr) fail("mkdtemp");
   const std::filesystem::path dir(dir_template);
@@ -307,7 +319,7 @@ HilResult run_hil(const HilOptions& options) {
     } else {
       start_qemu(options, dir, qemu, link_fd, plant_fd, out_fd);
     }
-    run_session(options, scenario, qemu, link_fd, plant_fd, out_fd, result);
+    run_session(options, scenario, design, qemu, link_fd, plant_fd, out_fd, result);
   } catch (...) {
     cleanup();
     throw;

@@ -3,6 +3,7 @@
 // The estimate is available at any time. Heap-free, no I/O; the least-squares back-end is a template parameter
 // (GroupedLeastSquares: the recursive estimator; BatchLeastSquares: the (3.21) reference; CovarianceRls: the
 // textbook baseline).
+// N and M are capacities (fixed-size storage): configure() chooses the order n <= N; the design's m <= M.
 #pragma once
 
 #include <cmath>
@@ -26,14 +27,16 @@ class SchemeIdentifier {
 
   SchemeIdentifier() = default;
 
-  /// Validates the design and clears all state. Until it succeeds every add_* returns kNotConfigured.
-  Status configure(const Design& design) {
+  /// Validates the design and the order n, and clears all state. Until it succeeds every add_* returns
+  /// kNotConfigured. kOrderOutOfRange for n outside [1, N] or a back-end that needs n = N, m = M.
+  Status configure(const Design& design, int n = N) {
     configured_ = false;
+    if (n < 1 || n > N) return Status::kOrderOutOfRange;
     const Status s = design.validate();
     if (s != Status::kOk) return s;
     design_ = design;
-    builder_ = Builder(design.W());
-    solver_.reset(design.W());
+    builder_ = Builder(design.W(), n, design.m);
+    if (solver_.reset(design.W(), n, design.m) != Status::kOk) return Status::kOrderOutOfRange;
     step_ = StepMean<Scalar>{};
     step_t_ = 0;
     pulse_t_ = 0;
@@ -97,6 +100,7 @@ class SchemeIdentifier {
   }
 
   const Design& design() const { return design_; }
+  int order() const { return builder_.order(); }
   const StepMean<Scalar>& step_mean() const { return step_; }
   const LeastSquares& least_squares() const { return solver_; }
   std::int64_t step_samples() const { return step_t_; }
