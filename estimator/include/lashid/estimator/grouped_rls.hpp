@@ -17,9 +17,10 @@
 // rows against per-group sums (tests/test_estimator.cpp, docs/estimator.md). Nothing is ever subtracted from a large accumulated sum, unlike the covariance form of RLS, whose
 // P = (Phi'Phi)^-1 loses symmetry and positive definiteness in float32 (cond(Phi'Phi) ~ 1.7e6 here).
 //
-// N and M are capacities (fixed-size storage); the order n <= N and points m <= M are chosen by reset(). The
-// per-row kernels are compiled for each z size 2..N+1 and chosen by a switch on n, so that they stay unrolled
-// (Cortex-M4F: rolled loops cost about 50 more instructions per sample, docs/on-target-cost.md).
+// N and M are capacities (fixed-size storage); the order n <= N and points m <= M are chosen by reset(). The per-row
+// update and solve()'s merge over the groups are compiled once per order 1..N and chosen by n at run time
+// (order_dispatch.hpp), so that their loops stay unrolled; the n x n algebra, once per solve, is one routine for
+// every n (SmallCholesky), which keeps the firmware image small.
 #pragma once
 
 #include <cmath>
@@ -31,6 +32,7 @@
 #include <Eigen/Core>
 
 #include "lashid/estimator/least_squares.hpp"
+#include "lashid/estimator/order_dispatch.hpp"
 #include "lashid/estimator/regressor.hpp"
 #include "lashid/estimator/small_cholesky.hpp"
 #include "lashid/estimator/symmetric_eigenvalues.hpp"
@@ -100,23 +102,25 @@ class GroupedLeastSquares {
 
   Status update(const SparseRegressor<Scalar, N, M>& row, Scalar y_tilde) {
     if (!valid_) return Status::kOrderOutOfRange;
-    bool finite = std::isfinite(y_tilde);
-    for (int i = 0; i < n_; ++i) finite = finite && std::isfinite(row.phi_y(i));
-    if (!finite) return Status::kNonFinite;
+    Status s = Status::kOk;
+    with_order<N>(n_, [&](auto order) { s = update_n<decltype(order)::value>(row, y_tilde); });
+    return s;
+  }
+
+  /// update() for the order Nn = n, known at compile time (the caller dispatched on n, and reset() accepted it).
+  template <int Nn>
+  Status update_n(const SparseRegressor<Scalar, N, M>& row, Scalar y_tilde) {
+    static_assert(Nn >= 1 && Nn <= N);
+    // Summed, one test: the sum of the differences is NaN as soon as one of them is (x - x is NaN for inf and NaN).
+    Scalar zero = y_tilde - y_tilde;
+#pragma GCC unroll 8
+    for (int i = 0; i < Nn; ++i) zero += row.phi_y(i) - row.phi_y(i);
+    if (!(zero == Scalar(0))) return Status::kNonFinite;
     const int g = row.input_column + 1;
     GroupMean& block = block_[g];
-    with_z_size([&](auto size) { add_to_block<decltype(size)::value>(block, row.phi_y, y_tilde); });
-    if (block.count == kBlock) merge_block(g);
-    if (++block_rows_ == kBlock) {  // the shared scatter's block ends every kBlock rows, whatever their groups
-      add_upper(middle_scatter_, block_scatter_, n_ + 1);
-      block_scatter_.setZero();
-      block_rows_ = 0;
-      if (++middle_blocks_ == kBlock) {
-        add_upper(total_scatter_, middle_scatter_, n_ + 1);
-        middle_scatter_.setZero();
-        middle_blocks_ = 0;
-      }
-    }
+    add_to_block<Nn + 1>(block, row.phi_y, y_tilde);
+    if (block.count == kBlock) merge_block<Nn + 1>(g);
+    if (++block_rows_ == kBlock) end_block<Nn + 1>();
     return Status::kOk;
   }
 
@@ -131,89 +135,130 @@ class GroupedLeastSquares {
   /// (and the residual variance) only when asked: the periodic estimate of the firmware does not need them.
   Solution solve(bool with_std_errors = true) const {
     Solution out;
+    solve_into(out, with_std_errors);
+    return out;
+  }
+
+  /// solve() into `out`, without building a Solution: only the first n + n m entries of theta and std_error are
+  /// written (the others keep their values), so that a caller re-solving into the same object every period neither
+  /// clears nor copies the capacity's entries (the firmware: about 1,000 instructions per solve at n <= 4, m <= 10).
+  void solve_into(Solution& out, bool with_std_errors = true) const {
     out.n = n_;
     out.m = m_;
+    out.rows = 0;
+    out.rcond = Scalar(0);
+    out.noise_variance = Scalar(0);
+    out.status = Status::kNotExcited;
     if (!valid_) {
       out.status = Status::kOrderOutOfRange;
-      return out;
+      return;
     }
     const int n = n_;
-    const int kz = n + 1;
-    ZMat info = ZMat::Zero();  // upper triangle of the reduced information matrix of z
-    add_upper(info, total_scatter_, kz);
-    add_upper(info, middle_scatter_, kz);
-    add_upper(info, block_scatter_, kz);
-    with_z_size([&](auto size) {
-      constexpr int K = decltype(size)::value;
-      for (int g = 0; g < groups_; ++g) {
-        // The merge of total_ and block_ (Chan et al.): its rank-one term, accumulated without copying.
-        const GroupMean& a = total_[g];
-        const GroupMean& b = block_[g];
-        out.rows += a.count + b.count;
-        if (a.count == 0 || b.count == 0) continue;
-        const Scalar na = static_cast<Scalar>(a.count);
-        const Scalar nb = static_cast<Scalar>(b.count);
-        add_rank_one<K>(info, b.mean - a.mean, na * nb / (na + nb));
-      }
-      // Group 0 has no free offset: its raw second moment is scatter + count * mean mean'.
-      const GroupMean g0 = merged(0);
-      add_rank_one<K>(info, g0.mean, static_cast<Scalar>(g0.count));
-    });
+    ZMat info;  // upper triangle of the reduced information matrix of z (leading n + 1 block)
+    ZVec mean[static_cast<std::size_t>(kGroups)];
+    std::uint32_t count[static_cast<std::size_t>(kGroups)];
+    with_order<N>(n, [&](auto order) { merge_groups<decltype(order)::value + 1>(info, mean, count, out.rows); });
     for (int g = 1; g < groups_; ++g) {
-      if (total_[g].count + block_[g].count == 0) return out;  // mu for column g-1 not excited yet: kNotExcited
+      if (count[g] == 0) return;  // mu for column g-1 not excited yet: kNotExcited
     }
-    if (out.rows <= static_cast<std::uint32_t>(dim())) return out;
+    if (out.rows <= static_cast<std::uint32_t>(dim())) return;
 
-    NMat A = NMat::Zero();  // the full symmetric n x n block, from the upper triangle
-    NVec r = NVec::Zero();
+    NMat A;
+    NVec a;  // first r, then the solution
     for (int j = 0; j < n; ++j) {
       for (int i = 0; i <= j; ++i) A(i, j) = A(j, i) = info(i, j);
-      r(j) = info(j, n);
+      a(j) = info(j, n);
     }
     out.rcond = reciprocal_condition(A, n);
     SmallCholesky<Scalar, N> chol;
     if (!(out.rcond >= min_rcond()) || !chol.compute(A, n)) {
       out.status = Status::kIllConditioned;
-      return out;
+      return;
     }
-    const NVec a = chol.solve(r);
-    NMat A_inv = NMat::Zero();
-    if (with_std_errors) {
-      for (int k = 0; k < n; ++k) A_inv.col(k) = chol.solve(NVec::Unit(k));
+    const NVec r = a;
+    chol.solve_in_place(a);
+    bool finite = true;
+    for (int i = 0; i < n; ++i) {
+      out.theta(i) = a(i);
+      finite = finite && std::isfinite(a(i));
     }
-    for (int i = 0; i < n; ++i) out.theta(i) = a(i);
     for (int k = 0; k < n * m_; ++k) {
-      const GroupMean gk = merged(k + 1);
-      out.theta(n + k) = (gk.mean(n) - head_dot(gk.mean, a, n)) / w_(k);
+      const ZVec& mk = mean[k + 1];
+      out.theta(n + k) = (mk(n) - head_dot(mk, a, n)) / w_(k);
+      finite = finite && std::isfinite(out.theta(n + k));
     }
-    out.status = out.theta.allFinite() ? Status::kOk : Status::kIllConditioned;
-    if (!with_std_errors || out.status != Status::kOk) return out;
+    out.status = finite ? Status::kOk : Status::kIllConditioned;
+    if (!with_std_errors || out.status != Status::kOk) return;
 
-    const Scalar rss = std::fmax(info(n, n) - r.dot(a), Scalar(0));
+    NMat A_inv;
+    for (int k = 0; k < n; ++k) {
+      NVec e = NVec::Zero();
+      e(k) = Scalar(1);
+      chol.solve_in_place(e);
+      A_inv.col(k) = e;
+    }
+    const Scalar rss = std::fmax(info(n, n) - head_dot(r, a, n), Scalar(0));
     out.noise_variance = rss / static_cast<Scalar>(out.rows - static_cast<std::uint32_t>(dim()));
     for (int i = 0; i < n; ++i) out.std_error(i) = std::sqrt(out.noise_variance * A_inv(i, i));
     for (int k = 0; k < n * m_; ++k) {
       // var(mu_k) = sigma^2 [1/(count w^2) + (phibar/w)' A^-1 (phibar/w)]: group mean and within-group slope are
       // uncorrelated.
-      const GroupMean gk = merged(k + 1);
-      NVec h = NVec::Zero();
-      for (int i = 0; i < n; ++i) h(i) = gk.mean(i) / w_(k);
-      const Scalar var = out.noise_variance * (Scalar(1) / (static_cast<Scalar>(gk.count) * w_(k) * w_(k)) +
-                                               h.dot(A_inv * h));
+      NVec h;
+      for (int i = 0; i < n; ++i) h(i) = mean[k + 1](i) / w_(k);
+      Scalar quad = Scalar(0);
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) quad += h(i) * A_inv(i, j) * h(j);
+      }
+      const Scalar var =
+          out.noise_variance * (Scalar(1) / (static_cast<Scalar>(count[k + 1]) * w_(k) * w_(k)) + quad);
       out.std_error(n + k) = std::sqrt(var);
     }
-    return out;
   }
 
  private:
-  /// Calls f(std::integral_constant<int, n + 1>) for the run-time n: the kernels below are compiled per size.
-  template <class F>
-  void with_z_size(F&& f) const {
-    dispatch(std::forward<F>(f), std::make_integer_sequence<int, N>{});
+  // The reduced information matrix of z = [phi_y; y~] (upper triangle, leading K x K block) and each group's count
+  // and mean over all its rows: the shared scatter's three levels, plus the Chan et al. merge of each group's
+  // total and block, accumulated without copying the moments.
+  template <int K>
+  void merge_groups(ZMat& info, ZVec* mean, std::uint32_t* count, std::uint32_t& rows) const {
+#pragma GCC unroll 8
+    for (int j = 0; j < K; ++j) {
+#pragma GCC unroll 8
+      for (int i = 0; i <= j; ++i) info(i, j) = total_scatter_(i, j) + middle_scatter_(i, j) + block_scatter_(i, j);
+    }
+    for (int g = 0; g < groups_; ++g) {
+      const GroupMean& a = total_[g];
+      const GroupMean& b = block_[g];
+      count[g] = a.count + b.count;
+      rows += count[g];
+      if (a.count == 0 || b.count == 0) {
+        mean[g] = a.count == 0 ? b.mean : a.mean;
+        continue;
+      }
+      const Scalar na = static_cast<Scalar>(a.count);
+      const Scalar nb = static_cast<Scalar>(b.count);
+      const Scalar w = nb / (na + nb);
+      ZVec delta;
+#pragma GCC unroll 8
+      for (int i = 0; i < K; ++i) {
+        delta(i) = b.mean(i) - a.mean(i);
+        mean[g](i) = a.mean(i) + delta(i) * w;
+      }
+      add_rank_one<K>(info, delta, na * w);
+    }
+    // Group 0 has no free offset: its raw second moment is scatter + count * mean mean'.
+    add_rank_one<K>(info, mean[0], static_cast<Scalar>(count[0]));
   }
-  template <class F, int... I>
-  void dispatch(F&& f, std::integer_sequence<int, I...> /*sizes*/) const {
-    (void)((n_ == I + 1 ? (f(std::integral_constant<int, I + 2>{}), true) : false) || ...);
+
+  static Scalar head_dot(const ZVec& z, const NVec& a, int n) {
+    Scalar s = Scalar(0);
+    for (int i = 0; i < n; ++i) s += z(i) * a(i);
+    return s;
+  }
+  static Scalar head_dot(const NVec& x, const NVec& a, int n) {
+    Scalar s = Scalar(0);
+    for (int i = 0; i < n; ++i) s += x(i) * a(i);
+    return s;
   }
 
   // Welford's update of the group's block mean; the scatter term goes into the shared block scatter. z - mean_new
@@ -239,7 +284,8 @@ class GroupedLeastSquares {
     }
   }
 
-  // Chan et al.'s merge of group g's block into its total; the rank-one term goes into the total scatter.
+  // Chan et al.'s merge of group g's block into its total; the rank-one term goes into the shared scatter.
+  template <int K>
   void merge_block(int g) {
     GroupMean& a = total_[g];
     GroupMean& b = block_[g];
@@ -250,43 +296,40 @@ class GroupedLeastSquares {
       const Scalar nb = static_cast<Scalar>(b.count);
       const Scalar n = na + nb;
       const ZVec delta = b.mean - a.mean;
-      for (int i = 0; i <= n_; ++i) a.mean(i) += delta(i) * (nb / n);
-      with_z_size([&](auto size) { add_rank_one<decltype(size)::value>(middle_scatter_, delta, na * nb / n); });
+      a.mean += delta * (nb / n);
+      add_rank_one<K>(middle_scatter_, delta, na * nb / n);
       a.count += b.count;
     }
     b = GroupMean{};
   }
 
-  /// Count and mean of group g over all its rows (total and current block).
-  GroupMean merged(int g) const {
-    const GroupMean& a = total_[g];
-    const GroupMean& b = block_[g];
-    if (a.count == 0) return b;
-    if (b.count == 0) return a;
-    GroupMean out;
-    out.count = a.count + b.count;
-    const Scalar w = static_cast<Scalar>(b.count) / static_cast<Scalar>(out.count);
-    out.mean = a.mean + (b.mean - a.mean) * w;
-    return out;
+  // The shared scatter's block ends every kBlock rows, whatever their groups; every kBlock blocks, the middle level.
+  template <int K>
+  void end_block() {
+    add_upper<K>(middle_scatter_, block_scatter_);
+    block_scatter_.setZero();
+    block_rows_ = 0;
+    if (++middle_blocks_ == kBlock) {
+      add_upper<K>(total_scatter_, middle_scatter_);
+      middle_scatter_.setZero();
+      middle_blocks_ = 0;
+    }
   }
 
-  static Scalar head_dot(const ZVec& z, const NVec& a, int n) {
-    Scalar s = Scalar(0);
-    for (int i = 0; i < n; ++i) s += z(i) * a(i);
-    return s;
-  }
-
-  // info += s on the upper triangle of the leading k x k block (what triangularView<Upper>() += s computes).
-  static void add_upper(ZMat& info, const ZMat& s, int k) {
-    for (int j = 0; j < k; ++j) {
+  // info += s on the upper triangle of the leading K x K block (what triangularView<Upper>() += s computes).
+  template <int K, class Info>
+  static void add_upper(Info& info, const ZMat& s) {
+#pragma GCC unroll 8
+    for (int j = 0; j < K; ++j) {
+#pragma GCC unroll 8
       for (int i = 0; i <= j; ++i) info(i, j) += s(i, j);
     }
   }
 
   // info += alpha v v' on the upper triangle of the leading K x K block, unrolled (solve() merges every group with
   // it: Cortex-M4F 2,680 -> 2,000 instructions per estimate at n = 2, m = 6).
-  template <int K>
-  static void add_rank_one(ZMat& info, const ZVec& v, Scalar alpha) {
+  template <int K, class Info, class Vec>
+  static void add_rank_one(Info& info, const Vec& v, Scalar alpha) {
 #pragma GCC unroll 8
     for (int j = 0; j < K; ++j) {
       const Scalar vj = v(j) * alpha;
@@ -298,13 +341,15 @@ class GroupedLeastSquares {
   static Scalar reciprocal_condition(const NMat& A, int n) {
     if (n == 1) return A(0, 0) > Scalar(0) && std::isfinite(A(0, 0)) ? Scalar(1) : Scalar(0);
     if constexpr (N >= 2) {
-      if (n != 2) return reciprocal_condition_spd<Scalar, N>(A, n);
-      // Closed form for a symmetric 2x2: lambda = (tr -+ sqrt((a-d)^2 + 4b^2)) / 2.
-      if (!std::isfinite(A(0, 0)) || !std::isfinite(A(0, 1)) || !std::isfinite(A(1, 1))) return Scalar(0);
-      const Scalar half_tr = Scalar(0.5) * (A(0, 0) + A(1, 1));
-      const Scalar half_gap = std::hypot(Scalar(0.5) * (A(0, 0) - A(1, 1)), A(0, 1));
-      const Scalar hi = half_tr + half_gap;
-      return hi > Scalar(0) ? std::fmax(half_tr - half_gap, Scalar(0)) / hi : Scalar(0);
+      if (n == 2) {
+        // Closed form for a symmetric 2x2: lambda = (tr -+ sqrt((a-d)^2 + 4b^2)) / 2.
+        if (!std::isfinite(A(0, 0)) || !std::isfinite(A(0, 1)) || !std::isfinite(A(1, 1))) return Scalar(0);
+        const Scalar half_tr = Scalar(0.5) * (A(0, 0) + A(1, 1));
+        const Scalar half_gap = std::hypot(Scalar(0.5) * (A(0, 0) - A(1, 1)), A(0, 1));
+        const Scalar hi = half_tr + half_gap;
+        return hi > Scalar(0) ? std::fmax(half_tr - half_gap, Scalar(0)) / hi : Scalar(0);
+      }
+      return reciprocal_condition_spd<Scalar, N>(A, n);
     } else {
       return Scalar(0);  // unreachable: n <= N = 1
     }

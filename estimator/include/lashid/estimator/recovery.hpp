@@ -30,40 +30,43 @@ struct SchemeEstimate {
   Status status = Status::kNotExcited;
 };
 
-/// Fills a, b, c, F of `out` from Theta (out.ls.theta, of order out.ls.n) and ybar0 (out.ybar0).
+/// Fills a, b, c, F of `out` from Theta (out.ls.theta, of order out.ls.n) and ybar0 (out.ybar0). Only the first n
+/// (a, b) and m (c, F) entries are written: the firmware recovers into the same estimate every pulse period.
 template <class Scalar, int N, int M>
 Status recover(const ExperimentDesign<Scalar, M>& design, SchemeEstimate<Scalar, N, M>& out) {
   const auto& theta = out.ls.theta;
   const int n = out.ls.n;
   const int m = design.m;
   if (n < 1 || n > N || m < 1 || m > M || out.ls.m != m) return Status::kOrderOutOfRange;
-  const Eigen::Matrix<Scalar, M, 1> W = design.W();
+  const Scalar held = design.held_level();
   const auto mu = [&](int i, int j) { return theta(n + j * n + i); };  // 0-based i (lag), j (point)
 
   out.scheme = design.scheme;
-  out.a.setZero();
-  out.b.setZero();
-  for (int i = 0; i < n; ++i) out.a(i) = theta(i);
-  out.c.setZero();
-  out.c(0) = design.scaled_first_point() / W(0);
-  for (int i = 0; i < n; ++i) out.b(i) = mu(i, 0) / out.c(0);
-  const Scalar bb = out.b.squaredNorm();  // entries past n are zero
-  const Scalar B1 = out.b.sum();
+  out.c(0) = design.scaled_first_point() / (design.V(0) - held);
+  Scalar bb = Scalar(0);
+  Scalar B1 = Scalar(0);
+  Scalar A1 = Scalar(1);
+  for (int i = 0; i < n; ++i) {
+    out.a(i) = theta(i);
+    out.b(i) = mu(i, 0) / out.c(0);
+    bb += out.b(i) * out.b(i);
+    B1 += out.b(i);
+    A1 += out.a(i);
+  }
   if (!(bb > Scalar(0)) || !(std::fabs(B1) > Scalar(0)) || !std::isfinite(bb)) return Status::kDegenerateGain;
   for (int j = 1; j < m; ++j) {
     Scalar num = Scalar(0);
     for (int i = 0; i < n; ++i) num += out.b(i) * mu(i, j);
     out.c(j) = num / bb;
   }
-  const Scalar A1 = Scalar(1) + out.a.sum();
   out.held_output = A1 / B1 * out.ybar0;
-  out.F_centered.setZero();
-  out.F.setZero();
+  bool finite = std::isfinite(out.held_output);
   for (int j = 0; j < m; ++j) {
-    out.F_centered(j) = out.c(j) * W(j);
+    out.F_centered(j) = out.c(j) * (design.V(j) - held);
     out.F(j) = out.F_centered(j) + out.held_output;
+    finite = finite && std::isfinite(out.F(j));
   }
-  return out.F.allFinite() ? Status::kOk : Status::kDegenerateGain;
+  return finite ? Status::kOk : Status::kDegenerateGain;
 }
 
 }  // namespace lashid::est

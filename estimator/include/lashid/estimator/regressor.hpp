@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "lashid/estimator/lagrange.hpp"
+#include "lashid/estimator/order_dispatch.hpp"
 #include "lashid/estimator/status.hpp"
 
 namespace lashid::est {
@@ -48,7 +49,14 @@ class RegressorBuilder {
 
   /// Appends the centred sample (v~(t), y~(t)) after Phi(t) has been used.
   void push(Scalar v_tilde, Scalar y_tilde) {
-    for (int i = (n_ < N ? n_ : N) - 1; i > 0; --i) {  // the explicit bound spares GCC a false -Warray-bounds
+    with_order<N>(n_, [&](auto order) { push_n<decltype(order)::value>(v_tilde, y_tilde); });
+  }
+  /// push() for the order Nn = n, known at compile time (the caller dispatched on n already).
+  template <int Nn>
+  void push_n(Scalar v_tilde, Scalar y_tilde) {
+    static_assert(Nn >= 1 && Nn <= N);
+#pragma GCC unroll 8
+    for (int i = Nn - 1; i > 0; --i) {
       v_(i) = v_(i - 1);
       y_(i) = y_(i - 1);
       class_[i] = class_[i - 1];
@@ -56,7 +64,7 @@ class RegressorBuilder {
     v_(0) = v_tilde;
     y_(0) = y_tilde;
     class_[0] = basis_.classify(v_tilde);
-    if (filled_ < n_) ++filled_;
+    if (filled_ < Nn) ++filled_;
   }
 
   void reset() { filled_ = 0; }
@@ -66,16 +74,25 @@ class RegressorBuilder {
 
   /// Sparse Phi(t) for the next sample. kInputOffDesign when a lag is off the design or two lags hold pulses.
   Status sparse(SparseRegressor<Scalar, N, M>& row) const {
-    if (!ready()) return Status::kNotExcited;
+    Status s = Status::kNotExcited;
+    with_order<N>(n_, [&](auto order) { s = sparse_n<decltype(order)::value>(row); });
+    return s;
+  }
+  /// sparse() for the order Nn = n, known at compile time.
+  template <int Nn>
+  Status sparse_n(SparseRegressor<Scalar, N, M>& row) const {
+    static_assert(Nn >= 1 && Nn <= N);
+    if (filled_ < Nn) return Status::kNotExcited;
     row.input_column = -1;
     row.input_value = Scalar(0);
-    for (int i = 0; i < n_; ++i) {
+#pragma GCC unroll 8  // rolled, this loop over the n lags costs ~10 more instructions per sample (Cortex-M4F)
+    for (int i = 0; i < Nn; ++i) {
       row.phi_y(i) = -y_(i);
       const int l = class_[i];
       if (l == Basis::kOffDesign) return Status::kInputOffDesign;
       if (l == Basis::kZero) continue;
       if (row.input_column >= 0) return Status::kInputOffDesign;
-      row.input_column = l * n_ + i;
+      row.input_column = l * Nn + i;
       row.input_value = basis_.nodes()(l);
     }
     return Status::kOk;

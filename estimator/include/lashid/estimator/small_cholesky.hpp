@@ -1,8 +1,8 @@
 // Cholesky factorisation A = L L' of a small symmetric positive definite matrix whose size n is chosen at run time
-// within a fixed capacity D (the firmware's model order): fixed-size storage, heap-free, n^3/6 multiply-adds.
-// It replaces Eigen's LDLT, whose size must be a compile-time constant for fixed-size storage. Called only after
-// the condition number was checked (GroupedLeastSquares::solve), so a non-positive pivot means a rounding
-// breakdown, reported as failure, never a square root of a negative number.
+// within a fixed capacity D (the firmware's model order): fixed-size storage, heap-free, n^3/6 multiply-adds. One
+// routine for every n keeps the firmware image small, where Eigen's fixed-size LDLT would be compiled once per n
+// (docs/on-target-cost.md). Called after the condition number was checked (GroupedLeastSquares::solve), so a
+// non-positive pivot means a rounding breakdown: reported as failure, never the square root of a negative number.
 #pragma once
 
 #include <cmath>
@@ -19,9 +19,8 @@ class SmallCholesky {
 
   /// Factorises the leading n x n block of A (its lower triangle is read). False if a pivot is not positive.
   bool compute(const Matrix& A, int order) {
-    const int n = order < D ? order : D;  // also tells the compiler the bound (no false -Warray-bounds at D = 1)
+    const int n = order < D ? order : D;  // the explicit bound also spares GCC a false -Warray-bounds at D = 1
     n_ = n;
-    L_.setZero();
     for (int j = 0; j < n; ++j) {
       Scalar d = A(j, j);
       for (int k = 0; k < j; ++k) d -= L_(j, k) * L_(j, k);
@@ -36,12 +35,11 @@ class SmallCholesky {
     return true;
   }
 
-  /// x with A x = b on the leading n entries (the rest zero).
-  Vector solve(const Vector& b) const {
-    Vector x = Vector::Zero();
+  /// x with A x = b in the leading n entries (the others are not touched).
+  void solve_in_place(Vector& x) const {
     const int n = n_ < D ? n_ : D;
     for (int i = 0; i < n; ++i) {  // L z = b
-      Scalar s = b(i);
+      Scalar s = x(i);
       for (int k = 0; k < i; ++k) s -= L_(i, k) * x(k);
       x(i) = s / L_(i, i);
     }
@@ -50,7 +48,6 @@ class SmallCholesky {
       for (int k = i + 1; k < n; ++k) s -= L_(k, i) * x(k);
       x(i) = s / L_(i, i);
     }
-    return x;
   }
 
  private:

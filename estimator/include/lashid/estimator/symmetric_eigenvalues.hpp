@@ -14,17 +14,17 @@ namespace lashid::est {
 
 /// The n eigenvalues of the leading n x n block of A, ascending, in the first n entries (the rest zero).
 template <class Scalar, int D>
-Eigen::Matrix<Scalar, D, 1> symmetric_eigenvalues(Eigen::Matrix<Scalar, D, D> A, int n = D, int max_sweeps = 32) {
+Eigen::Matrix<Scalar, D, 1> symmetric_eigenvalues(Eigen::Matrix<Scalar, D, D> A, int order = D, int max_sweeps = 32) {
+  const int n = order < D ? order : D;  // the explicit bound also spares GCC a false -Warray-bounds
   const Scalar eps = Eigen::NumTraits<Scalar>::epsilon();
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     Scalar off = Scalar(0);
-    Scalar norm = Scalar(0);
+    Scalar diagonal = Scalar(0);
     for (int p = 0; p < n; ++p) {
-      norm += A(p, p) * A(p, p);
+      diagonal += A(p, p) * A(p, p);
       for (int q = p + 1; q < n; ++q) off += A(p, q) * A(p, q);
     }
-    norm += Scalar(2) * off;
-    if (!(off > eps * eps * norm)) break;  // also stops on NaN
+    if (!(off > eps * eps * (diagonal + Scalar(2) * off))) break;  // off-diagonal negligible; also stops on NaN
     for (int p = 0; p < n - 1; ++p) {
       for (int q = p + 1; q < n; ++q) {
         if (A(p, q) == Scalar(0)) continue;
@@ -64,10 +64,11 @@ Eigen::Matrix<Scalar, D, 1> symmetric_eigenvalues(Eigen::Matrix<Scalar, D, D> A,
   return ev;
 }
 
-/// Reciprocal 2-norm condition number of a symmetric positive semi-definite matrix (its leading n x n block); 0 if
-/// singular or not finite.
+/// Reciprocal 2-norm condition number of a symmetric positive semi-definite matrix (its leading n x n block, n >= 1);
+/// 0 if singular or not finite.
 template <class Scalar, int D>
-Scalar reciprocal_condition_spd(const Eigen::Matrix<Scalar, D, D>& A, int n = D) {
+Scalar reciprocal_condition_spd(const Eigen::Matrix<Scalar, D, D>& A, int order = D) {
+  const int n = order < D ? order : D;
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       if (!std::isfinite(A(i, j))) return Scalar(0);

@@ -86,6 +86,7 @@ class IdentificationSequencer {
   RunStatus result() const { return result_; }
   DesignStatus design_status() const { return design_status_; }
   const RunDesign& design() const { return design_; }
+  const Estimate& latest() const { return latest_; }
   const Estimate& dis() const { return dis_; }
   const Estimate& ais() const { return ais_; }
   const CrossCheckRecord& cross_check() const { return cross_; }
@@ -201,12 +202,12 @@ class IdentificationSequencer {
     const std::uint32_t length = dis ? design_.pulse_length_d : design_.pulse_length_a;
     if (phase_ == 0 || t_ == length) {  // an up-to-date estimate at least once per pulse period
       const std::uint32_t solve_start = board_.cycles();
-      latest_status_ = identifier_.estimate(/*with_std_errors=*/false).status;
+      identifier_.estimate_into(latest_, /*with_std_errors=*/false);
       cost_.solve_cycles += board_.cycles() - solve_start;
       ++cost_.solves;
     }
     if (t_ == length) {
-      (dis ? dis_ : ais_) = identifier_.estimate();  // the final one with standard errors (cross-check, report)
+      identifier_.estimate_into(dis ? dis_ : ais_);  // the final one with standard errors (cross-check, report)
       if (dis) {
         enter(Stage::kStepA);
       } else {
@@ -381,7 +382,7 @@ class IdentificationSequencer {
   Identifier identifier_{};
   est::ExcitationGenerator<float, N, M> generator_{Design{}, 1};
   ValidationExcitation validation_{};
-  est::Status latest_status_ = est::Status::kNotExcited;
+  Estimate latest_{};  // the estimate of the current pulse period, updated in place
   Estimate dis_{};
   Estimate ais_{};
   est::StepMean<float> high_{};
