@@ -87,8 +87,9 @@ class IdentificationSequencer {
   DesignStatus design_status() const { return design_status_; }
   const RunDesign& design() const { return design_; }
   const Estimate& latest() const { return latest_; }
-  const Estimate& dis() const { return dis_; }
-  const Estimate& ais() const { return ais_; }
+  /// The schemes' final estimates as reported (status kNotExcited for a scheme that did not run).
+  const EstimateRecord& dis() const { return dis_; }
+  const EstimateRecord& ais() const { return ais_; }
   const CrossCheckRecord& cross_check() const { return cross_; }
   const CostRecord& cost() const { return cost_; }
 
@@ -207,11 +208,13 @@ class IdentificationSequencer {
       ++cost_.solves;
     }
     if (t_ == length) {
-      identifier_.estimate_into(dis ? dis_ : ais_);  // the final one with standard errors (cross-check, report)
+      // The final estimate, with standard errors (cross-check, report), kept as its record: a third of the RAM.
+      identifier_.estimate_into(latest_);
+      (dis ? dis_ : ais_) = record(latest_, dis ? est::Scheme::kDescending : est::Scheme::kAscending);
       if (dis) {
         enter(Stage::kStepA);
       } else {
-        const bool ok = dis_.status == est::Status::kOk && ais_.status == est::Status::kOk;
+        const bool ok = scheme_ok(dis_) && scheme_ok(ais_);
         estimates_result_ = ok ? RunStatus::kOk : RunStatus::kEstimatorFailed;
         if (design_.val_length > 0) {
           enter(Stage::kValidation);
@@ -230,6 +233,16 @@ class IdentificationSequencer {
     if (++t_ == design_.val_length) finish(estimates_result_);
     return true;
   }
+
+  /// The record of a scheme that did not run (reported as such when a run ends early).
+  static EstimateRecord not_run(est::Scheme scheme) {
+    EstimateRecord r;
+    r.scheme = scheme;
+    r.status = static_cast<std::uint8_t>(est::Status::kNotExcited);
+    return r;
+  }
+
+  static bool scheme_ok(const EstimateRecord& r) { return r.status == static_cast<std::uint8_t>(est::Status::kOk); }
 
   EstimateRecord record(const Estimate& e, est::Scheme scheme) const {
     EstimateRecord r;
@@ -259,7 +272,7 @@ class IdentificationSequencer {
   // Remark 3b on the reported a, b and standard errors; not available unless both schemes succeeded.
   void compute_cross_check(const EstimateRecord& dis, const EstimateRecord& ais) {
     cross_.threshold = kCrossCheckSigmas;
-    if (dis_.status != est::Status::kOk || ais_.status != est::Status::kOk) {
+    if (!scheme_ok(dis) || !scheme_ok(ais)) {
       cross_.max_z = -1.0f;
       return;
     }
@@ -270,8 +283,8 @@ class IdentificationSequencer {
   }
 
   void report() {
-    const EstimateRecord dis = record(dis_, est::Scheme::kDescending);
-    const EstimateRecord ais = record(ais_, est::Scheme::kAscending);
+    const EstimateRecord& dis = dis_;
+    const EstimateRecord& ais = ais_;
     compute_cross_check(dis, ais);
     // Optional board extensions (hal/board.hpp): a board that cannot tell does not model the concept.
     if constexpr (hal::ReportsStackUse<B>) {
@@ -383,8 +396,8 @@ class IdentificationSequencer {
   est::ExcitationGenerator<float, N, M> generator_{Design{}, 1};
   ValidationExcitation validation_{};
   Estimate latest_{};  // the estimate of the current pulse period, updated in place
-  Estimate dis_{};
-  Estimate ais_{};
+  EstimateRecord dis_ = not_run(est::Scheme::kDescending);
+  EstimateRecord ais_ = not_run(est::Scheme::kAscending);
   est::StepMean<float> high_{};
   est::StepMean<float> low_{};
   CrossCheckRecord cross_{};
