@@ -1,15 +1,18 @@
 # Cortex-M firmware images for the QEMU mps2 boards (cross builds only: presets cm4f-release, cm7-release,
 # cm3-release). See docs/firmware-platform.md.
 #
-#   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>] [NO_RUN_TEST])
+#   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>] [NO_RUN_TEST]
+#                       [STACK_SIZE <bytes>] [MAX_FLASH <bytes>] [MAX_RAM <bytes>])
 #
-# builds <target>.elf against the board library (lashid::hal_mps2) with the linker script of LASHID_QEMU_MACHINE,
-# prints a flash/RAM report after each link, and registers two tests:
+# builds <target>.elf against the board library (lashid::hal_mps2) with the linker script of LASHID_QEMU_MACHINE
+# (and a stack of STACK_SIZE bytes instead of the script's 16 KiB), prints a flash/RAM report after each link, and
+# registers two tests, three with a budget:
 #   <target>_runs_in_qemu   runs the ELF in qemu-system-arm (CMAKE_CROSSCOMPILING_EMULATOR); passes on exit code 0,
 #                           fails on any other code or after TIMEOUT seconds (default 60: a hang fails); not with
 #                           NO_RUN_TEST (images that need a peer on their UARTs, tested through `lashid hil`)
 #   <target>_is_heap_free   fails if the linked ELF defines or references any allocator symbol (malloc, free, calloc,
 #                           realloc, their _r variants, _sbrk, _sbrk_r, operator new/delete): the proof is the link
+#   <target>_fits_its_budget  fails if flash exceeds MAX_FLASH or RAM (static + the reserved stack) exceeds MAX_RAM
 #
 # This file is also the script those two steps run (cmake -P with LASHID_FIRMWARE_ACTION = size | heap-check).
 
@@ -45,6 +48,13 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED LASHID_FIRMWARE_ACTION)
     message("${name}: text ${text}, data ${data}, bss ${bss} (arm-none-eabi-size) -> flash ${flash} B, "
             "RAM ${ram} B = stack ${stack} + static ${static_ram}"
             "; stack high-water: printed by the image at exit")
+    if(DEFINED MAX_FLASH AND flash GREATER MAX_FLASH)
+      message(FATAL_ERROR "${name}: flash ${flash} B exceeds its budget of ${MAX_FLASH} B")
+    endif()
+    if(DEFINED MAX_RAM AND ram GREATER MAX_RAM)
+      message(FATAL_ERROR "${name}: RAM ${ram} B (static ${static_ram} + stack ${stack}) exceeds its budget of "
+                          "${MAX_RAM} B")
+    endif()
     return()
   elseif(LASHID_FIRMWARE_ACTION STREQUAL "heap-check")
     execute_process(COMMAND "${NM}" "${ELF}" OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
@@ -78,7 +88,7 @@ include_guard(GLOBAL)
 set(_lashid_firmware_script "${CMAKE_CURRENT_LIST_FILE}")
 
 function(lashid_add_firmware target)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "NO_RUN_TEST" "TIMEOUT" "SOURCES;LIBS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "NO_RUN_TEST" "TIMEOUT;STACK_SIZE;MAX_FLASH;MAX_RAM" "SOURCES;LIBS")
   if(NOT CMAKE_CROSSCOMPILING)
     message(FATAL_ERROR "lashid_add_firmware(${target}): firmware images are built by the cross presets only")
   endif()
@@ -98,6 +108,9 @@ function(lashid_add_firmware target)
   get_target_property(script lashid::hal_mps2 LASHID_LINKER_SCRIPT)
   get_target_property(script_depends lashid::hal_mps2 LASHID_LINKER_SCRIPT_DEPENDS)
   target_link_options(${target} PRIVATE "-T${script}")
+  if(arg_STACK_SIZE)
+    target_link_options(${target} PRIVATE "-Wl,--defsym=__stack_size=${arg_STACK_SIZE}")
+  endif()
   set_property(TARGET ${target} APPEND PROPERTY LINK_DEPENDS ${script_depends})
   add_custom_command(TARGET ${target} POST_BUILD
     COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=size -DSIZE=${LASHID_ARM_SIZE} -DELF=$<TARGET_FILE:${target}>
@@ -113,4 +126,17 @@ function(lashid_add_firmware target)
            COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=heap-check -DNM=${CMAKE_NM}
                    -DELF=$<TARGET_FILE:${target}> -P ${_lashid_firmware_script})
   set_tests_properties(${target}_is_heap_free PROPERTIES TIMEOUT 60 LABELS "firmware")
+  if(arg_MAX_FLASH OR arg_MAX_RAM)
+    set(budget)
+    if(arg_MAX_FLASH)
+      list(APPEND budget -DMAX_FLASH=${arg_MAX_FLASH})
+    endif()
+    if(arg_MAX_RAM)
+      list(APPEND budget -DMAX_RAM=${arg_MAX_RAM})
+    endif()
+    add_test(NAME ${target}_fits_its_budget
+             COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=size -DSIZE=${LASHID_ARM_SIZE} ${budget}
+                     -DELF=$<TARGET_FILE:${target}> -P ${_lashid_firmware_script})
+    set_tests_properties(${target}_fits_its_budget PROPERTIES TIMEOUT 60 LABELS "firmware")
+  endif()
 endfunction()

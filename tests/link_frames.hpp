@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/link_protocol.hpp"
 
 namespace lashid::test {
@@ -18,6 +19,15 @@ inline std::vector<hal::link::Frame> frames_of(const std::vector<std::uint8_t>& 
   }
   if (errors != nullptr) *errors = decoder.errors();
   return frames;
+}
+
+/// The kDesign frame the host sends for `design`.
+inline std::vector<std::uint8_t> design_frame(const fw::RunDesign& design) {
+  hal::link::PayloadWriter w;
+  design.encode(w);
+  std::vector<std::uint8_t> frame(hal::link::kMaxFrame);
+  frame.resize(hal::link::encode_frame(hal::link::MessageType::kDesign, 0, w.data(), w.size(), frame.data()));
+  return frame;
 }
 
 }  // namespace lashid::test

@@ -98,7 +98,7 @@ TEST_F(CliPlant, ABorderGridThatMissesTheIntervalAndADesignTheDeviceRefusesAreEr
   write("dis.json", dis_only);
   const Outcome d = run({"simulate", "--plant", "plant.json", "--config", "dis.json", "--out", "rec.csv"});
   EXPECT_EQ(d.exit_code, 1) << d;
-  EXPECT_TRUE(Contains(d.err, "dis.json: a device run has both schemes: the config needs V_d and V_a"));
+  EXPECT_TRUE(Contains(d.err, "dis.json: the firmware cannot run this design: it needs both V_d and V_a"));
   EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
 }
 

@@ -13,7 +13,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hil/hil.hpp"
 #include "lashid/hil/run_recording.hpp"
@@ -68,11 +67,10 @@ TEST(RunPhases, SwitchRunStartsWithTheDisStep) {
 
 // The interval check the host leaves out is the one the sequencer runs.
 TEST(RunPhases, IntervalCheckLengthIsTheSequencers) {
-  using Sequencer = fw::IdentificationSequencer<ScenarioBoard, fw::DisPaperConfig>;
-  fw::RunDesign d = small_design(fw::OperatorKind::kBacklash);
-  d.n = fw::DisPaperConfig::kOrder;
-  d.m = fw::DisPaperConfig::kPoints;
-  EXPECT_EQ(interval_check_samples(d), static_cast<std::uint64_t>(Sequencer::kIntervalCheckSamples));
+  // The sequencer's square wave: kIntervalCheckPeriods periods of two half-periods of 2T each.
+  constexpr int kPeriods = fw::IdentificationSequencer<ScenarioBoard>::kIntervalCheckPeriods;
+  const fw::RunDesign d = small_design(fw::OperatorKind::kBacklash);
+  EXPECT_EQ(interval_check_samples(d), static_cast<std::uint64_t>(kPeriods * 2 * 2 * d.period()));
 }
 
 class RecorderTest : public ::testing::Test {

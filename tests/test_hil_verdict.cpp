@@ -122,23 +122,32 @@ TEST(HilVerdict, CrossCheckParameterNames) {
   EXPECT_EQ(sim::cross_check_parameter(3, 2), "b2");
 }
 
-TEST(FirmwareConfigOf, MapsTheScenariosAndChecksTheirDesign) {
-  EXPECT_EQ(sim::firmware_config_of(sim::find_scenario("dis_paper")), "DisPaperConfig");
-  EXPECT_EQ(sim::firmware_config_of(sim::find_scenario("ais_paper")), "AisPaperConfig");
+TEST(RunDesignOf, TheScenariosDesignAsTheFirmwareHoldsIt) {
+  // dis_paper: Section 3.5's design, a backlash (interval check), no validation phase.
+  const fw::RunDesign d = sim::run_design_of(sim::find_scenario("dis_paper"));
+  EXPECT_EQ(d.op, fw::OperatorKind::kBacklash);
+  EXPECT_EQ(d.n, 2);
+  EXPECT_EQ(d.m, 6);
+  EXPECT_EQ(d.v_min, -3.0f);
+  EXPECT_EQ(d.v_max, 4.0f);
+  EXPECT_EQ(d.V_d[3], 1.0f);
+  EXPECT_EQ(d.V_a[5], -2.0f);
+  EXPECT_EQ(d.step_length, 2000u);
+  EXPECT_EQ(d.pulse_length_d, 2000u);
+  EXPECT_EQ(d.val_length, 0u);
+  EXPECT_EQ(sim::run_design_of(sim::find_scenario("ais_paper")).pulse_length_a, 8000u);
+  // A design the firmware would refuse is refused here, naming the rule.
   sim::Scenario s = sim::find_scenario("ais_paper");
-  s.config.V_a[3] = 0.25;
-  s.pulse_length_d = 4000;
+  s.pulse_length_d = 20;  // < 2T = 36
   try {
-    (void)sim::firmware_config_of(s);
-    FAIL() << "a different design must be refused";
+    (void)sim::run_design_of(s);
+    FAIL() << "a design the firmware refuses must be refused";
   } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("AisPaperConfig"), std::string::npos) << what;
-    EXPECT_NE(what.find("V_a"), std::string::npos) << what;
-    EXPECT_NE(what.find("N of the DP experiment 4000 (firmware 8000)"), std::string::npos) << what;
+    EXPECT_NE(std::string(e.what()).find("pulse_length_d"), std::string::npos) << e.what();
   }
-  s.name = "elsewhere";
-  EXPECT_THROW((void)sim::firmware_config_of(s), std::invalid_argument);
+  s = sim::find_scenario("ais_paper");
+  s.step_length_a = 1000;  // the firmware has one L for both step experiments
+  EXPECT_THROW((void)sim::run_design_of(s), std::invalid_argument);
 }
 
 TEST(QemuCommandLine, HasTheCommonFlagsOnceAndIcountOnRequest) {

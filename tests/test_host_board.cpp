@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "lashid/firmware/paper_configs.hpp"
+#include "lashid/firmware/paper_run_designs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hal/host_board.hpp"
 #include "link_frames.hpp"
@@ -120,7 +120,7 @@ TEST(HostBoard, TheFirmwareIdentifiesTheNoiseFreeAisExampleThroughTheBoard) {
   using Ex = test::AisExample;
   hal::HostBoard<AisExamplePlant> board(AisExamplePlant{}, static_cast<float>(Ex::v_min),
                                         static_cast<float>(Ex::v_max));
-  fw::IdentificationSequencer<hal::HostBoard<AisExamplePlant>, fw::AisPaperConfig> firmware(board);
+  fw::IdentificationSequencer<hal::HostBoard<AisExamplePlant>> firmware(board, fw::kAisPaperRun);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
 
   fw::EstimateRecord ais;

@@ -19,6 +19,7 @@
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/estimator/regressor.hpp"
+#include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/mps2.hpp"
 
 namespace est = lashid::est;
@@ -29,12 +30,17 @@ namespace {
 
 constexpr int N = 2;
 constexpr int M = 6;
-using Identifier = est::SchemeIdentifier<float, N, M>;
+// The grouped estimator as the generic firmware image compiles it: capacity n <= 4, m <= 10 (run_design.hpp),
+// configured at run time for n = 2, m = 6. The textbook form is dense, compiled for exactly n = 2, m = 6.
+constexpr int kCapacityN = lashid::fw::kMaxOrder;
+constexpr int kCapacityM = lashid::fw::kMaxPoints;
+using Identifier = est::SchemeIdentifier<float, kCapacityN, kCapacityM>;
 using Estimate = Identifier::Estimate;
 using Textbook = est::CovarianceRls<float, N, M>;
-using Builder = est::RegressorBuilder<float, N, M>;
-using Grouped = est::GroupedLeastSquares<float, N, M>;
-using SparseRow = est::SparseRegressor<float, N, M>;
+using Builder = est::RegressorBuilder<float, kCapacityN, kCapacityM>;
+using TextbookBuilder = est::RegressorBuilder<float, N, M>;
+using Grouped = est::GroupedLeastSquares<float, kCapacityN, kCapacityM>;
+using SparseRow = est::SparseRegressor<float, kCapacityN, kCapacityM>;
 
 constexpr int kPeriod = est::PulseSchedule<N, M>::kPeriod;  // T = n (m + 3) = 18
 constexpr int kPeriods = 128;  // every group's 64-row block is merged at least twice: the amortised cost includes it
@@ -98,12 +104,13 @@ class Plant {
   PseudoNoise noise_;
 };
 
-est::ExperimentDesign<float, M> dis_design() {
-  est::ExperimentDesign<float, M> d;
+est::ExperimentDesign<float, kCapacityM> dis_design() {
+  est::ExperimentDesign<float, kCapacityM> d;
   d.scheme = est::Scheme::kDescending;
+  d.m = M;
   d.v_min = kVMin;
   d.v_max = kVMax;
-  d.V << -3.0f, -2.0f, -1.0f, 1.0f, 2.0f, 3.0f;
+  d.V.head<M>() << -3.0f, -2.0f, -1.0f, 1.0f, 2.0f, 3.0f;
   return d;
 }
 
@@ -118,8 +125,8 @@ int g_row_count = 0;
 
 bool generate() {
   const auto design = dis_design();
-  if (g_after_step.configure(design) != est::Status::kOk) return false;
-  const est::ExcitationGenerator<float, N, M> gen(design);
+  if (g_after_step.configure(design, N) != est::Status::kOk) return false;
+  const est::ExcitationGenerator<float, kCapacityN, kCapacityM> gen(design, N);
   Plant plant(border_d(design.held_level()));
   bool ok = true;
   for (int t = 0; t <= kStepLength; ++t) {
@@ -127,7 +134,7 @@ bool generate() {
     ok = ok && g_after_step.add_step_sample(gen.step_input(t), plant.next(border_d(design.held_level()))) ==
                    est::Status::kOk;
   }
-  Builder builder(design.W());
+  Builder builder(design.W(), N, M);
   const float mean = g_after_step.step_mean().mean();
   for (int t = 0; t < kSamples; ++t) {
     g_v[t] = gen.pulse_input(t);
@@ -157,7 +164,9 @@ void escape(const T& value) {
   return not_ok;
 }
 
-// (c): the same, plus estimate(false) after every kPeriod-th sample, as the firmware does.
+// (c): the same, plus estimate_into(false) after every kPeriod-th sample, as the firmware does (into one estimate
+// kept across periods).
+Estimate g_latest;
 [[gnu::noinline]] int feed_and_estimate(Identifier& id, const float* v, const float* y, int count, int& bad_estimates) {
   int not_ok = 0;
   int phase = 0;
@@ -165,16 +174,16 @@ void escape(const T& value) {
     not_ok += id.add_pulse_sample(v[t], y[t]) != est::Status::kOk ? 1 : 0;
     if (++phase == kPeriod) {
       phase = 0;
-      const Estimate e = id.estimate(/*with_std_errors=*/false);
-      escape(e);
-      bad_estimates += e.status != est::Status::kOk ? 1 : 0;
+      id.estimate_into(g_latest, /*with_std_errors=*/false);
+      escape(g_latest);
+      bad_estimates += g_latest.status != est::Status::kOk ? 1 : 0;
     }
   }
   return not_ok;
 }
 
 [[gnu::noinline]] void estimate_into(const Identifier& id, bool with_std_errors, Estimate& out) {
-  out = id.estimate(with_std_errors);
+  id.estimate_into(out, with_std_errors);
   escape(out);
 }
 
@@ -186,7 +195,7 @@ void escape(const T& value) {
 }
 
 // The dense row (3.19b) the textbook form needs (Lagrange polynomials evaluated), not part of (e).
-[[gnu::noinline]] est::Status dense_row(const Builder& builder, Textbook::Vector& phi) { return builder.dense(phi); }
+[[gnu::noinline]] est::Status dense_row(const TextbookBuilder& builder, Textbook::Vector& phi) { return builder.dense(phi); }
 
 // (e): one textbook update.
 [[gnu::noinline]] est::Status textbook_update(Textbook& rls, const Textbook::Vector& phi, float y_tilde) {
@@ -302,7 +311,7 @@ int main() {
   const float full = per_item(full_cycles, kPeriods, kPeriods, overhead);
 
   // Breakdown of (a): the bare grouped update on pre-built sparse rows.
-  g_grouped.reset(dis_design().W());
+  (void)g_grouped.reset(dis_design().W(), N, M);
   t0 = Clock::cycles();
   const int bare_not_ok = bare_grouped(g_grouped, g_rows, g_targets, g_row_count);
   t1 = Clock::cycles();
@@ -311,9 +320,9 @@ int main() {
 
   // (e) the textbook covariance form on the dense rows (3.19b), one region per update; the rows are built and,
   // after a failure (P no longer positive definite: 1 + phi'P phi <= 0), P is re-initialised outside the regions.
-  const auto W = dis_design().W();
+  const Eigen::Matrix<float, M, 1> W = dis_design().W().head<M>();
   g_textbook = Textbook(W);
-  Builder builder(W);
+  TextbookBuilder builder(W);
   const float mean = g_after_step.step_mean().mean();
   std::uint32_t dense_cycles = 0;
   std::uint32_t ok_cycles = 0;
@@ -338,7 +347,7 @@ int main() {
       } else {
         failed_cycles += t1 - t0;
         ++failed_updates;
-        g_textbook.reset(W);
+        (void)g_textbook.reset(W);
       }
     }
     builder.push(g_v[t] - kVMax, y_tilde);
@@ -384,7 +393,7 @@ int main() {
     // A fingerprint of the final estimate's bits (Theta and its standard errors): equal before and after a change of
     // the estimator's code means the change did not alter a single rounding on this core.
     std::uint32_t bits = 0;
-    for (int k = 0; k < est::LsSolution<float, N, M>::kDim; ++k) {
+    for (int k = 0; k < N + N * M; ++k) {  // Theta of n = 2, m = 6 (the capacity's other entries are zero)
       bits = bits * 31U + std::bit_cast<std::uint32_t>(g_estimate.ls.theta(k));
       bits = bits * 31U + std::bit_cast<std::uint32_t>(g_estimate.ls.std_error(k));
     }

@@ -1,21 +1,16 @@
 // The identification firmware on QEMU's mps2 machines: UART0 is the link (start/stop/query commands in, reports out),
 // UART1 is the actuator/sensor port (one kActuate/kMeasurement exchange per sample with `lashid hil`, which plays
-// the actuator with backlash and the plant), SysTick is the clock. The configuration is chosen at compile time
-// (LASHID_FW_CONFIG, e.g. DisPaperConfig). The image waits for a start command, runs the sequence, reports, and
-// exits QEMU with 0 when the run is ok (10 + RunStatus otherwise).
+// the actuator with backlash and the plant), SysTick is the clock. One image for every design within its capacity
+// (n <= 4, m <= 10): it waits for the design (kDesign, answered with its DesignStatus) and a start command, runs the
+// sequence, reports, and exits QEMU with 0 when the run is ok (10 + RunStatus otherwise).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 
-#include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hal/board.hpp"
 #include "lashid/hal/mps2.hpp"
 #include "lashid/hal/remote_plant_port.hpp"
-
-#ifndef LASHID_FW_CONFIG
-#error "define LASHID_FW_CONFIG (a configuration of lashid/firmware/paper_configs.hpp)"
-#endif
 
 namespace {
 
@@ -39,7 +34,6 @@ class Uart1Channel {
 /// The hal::Board of the identification firmware on mps2.
 class Mps2IdentificationBoard {
  public:
-  using Config = fw::LASHID_FW_CONFIG;
   /// A lost answer is requested again after 1 s of virtual time (25 M cycles); a damaged one at once.
   static constexpr std::uint32_t kExchangeTimeoutCycles = mps2::kSystemClockHz;
   static constexpr int kExchangeRetries = 3;
@@ -52,8 +46,9 @@ class Mps2IdentificationBoard {
     plant_channel_.init();
   }
 
+  /// The sequencer commands only the accepted design's levels; a non-finite command never reaches the actuator.
   hal::Status actuate(float v) {
-    if (!std::isfinite(v) || v < Config::kVMin || v > Config::kVMax) return hal::Status::kOutOfRange;
+    if (!std::isfinite(v)) return hal::Status::kOutOfRange;
     return port_.actuate(v);
   }
   hal::Status measure(float& y) { return port_.measure(y); }
@@ -79,14 +74,13 @@ static_assert(hal::ReportsExchangeErrors<Mps2IdentificationBoard>);
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Mps2IdentificationBoard g_board;
-fw::IdentificationSequencer<Mps2IdentificationBoard, Mps2IdentificationBoard::Config> g_sequencer(
-    g_board, /*auto_start=*/false);
+fw::IdentificationSequencer<Mps2IdentificationBoard> g_sequencer(g_board);
 
 }  // namespace
 
 int main() {
   g_board.init();
-  mps2::semihosting::write("lashid: identification firmware waiting for start on UART0\n");
+  mps2::semihosting::write("lashid: identification firmware waiting for a design and start on UART0\n");
   const fw::RunStatus status = g_sequencer.run();
   return status == fw::RunStatus::kOk ? 0 : 10 + static_cast<int>(status);
 }

@@ -1,4 +1,5 @@
 // `lashid hil`: the firmware in QEMU identifies the plant the host plays over the emulated UART.
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,6 +74,10 @@ int run_hil_command(const HilArgs& args) {
   options.timeout_seconds = args.timeout;
   options.corrupt_every = args.corrupt_every;
   options.icount = args.icount;
+  options.on_progress = [](fw::Stage stage, std::uint32_t samples) {
+    fmt::print("  [firmware] {} (after {} samples)\n", fw::to_string(stage), samples);
+    std::fflush(stdout);
+  };
   options.plant_file = args.plant;
   options.record = args.record;
   if (!args.plant.empty()) note_ignored_keys(read_plant_json(args.plant), args.plant);
@@ -92,6 +97,10 @@ int run_hil_command(const HilArgs& args) {
              args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine,
              args.plant.empty() ? args.scenario : args.plant, args.seed);
   fmt::print("  firmware result: {}; QEMU exit status {}\n", run_status_name(r.done), r.qemu_exit);
+  if (r.design_status > 0) {
+    fmt::print("  the firmware refused the design: {}\n",
+               fw::to_string(static_cast<fw::DesignStatus>(r.design_status)));
+  }
   fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
              "damaged on purpose\n",
              r.samples, r.repeated_requests, r.protocol_errors, r.corrupted_by_host);

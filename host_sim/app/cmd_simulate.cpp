@@ -5,11 +5,11 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "lashid/hil/hil.hpp"
 #include "lashid/io/files.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/sim/file_plant.hpp"
-#include "lashid/sim/run_design.hpp"
 #include "lashid/sim/scenario.hpp"
 #include "plant_notes.hpp"
 
@@ -24,18 +24,26 @@ int run_scenarios() {
 
 namespace {
 
+// The phase lengths of a device run of `config`: the one place `simulate --plant` reads them. The config's optional
+// keys step_length, pulse_length_d, pulse_length_a, val_length and val_seed (issue 10, section 2) replace these
+// defaults (those of sim::Scenario) when they land.
+RunLengths run_lengths_of(const ExperimentConfig& /*config*/) {
+  return {.step_length = 2000, .pulse_length_d = 2000, .pulse_length_a = 2000, .val_length = 2000, .val_seed = 1};
+}
+
 // `simulate --plant PLANT --config CFG`: the device's run of the config's design on the plant, without firmware.
 int run_simulate_plant(const SimulateArgs& args) {
   const PlantSpec spec = read_plant_json(args.plant);
   note_ignored_keys(spec, args.plant);
   const ExperimentConfig config = read_config_json(args.config);
-  const RunLengths lengths = run_lengths(config);
-  Recording rec;
+  const RunLengths lengths = run_lengths_of(config);
+  fw::RunDesign design;
   try {
-    rec = simulate_file_plant(spec, args.plant, config, args.seed);
+    design = to_run_design(config, lengths);
   } catch (const std::invalid_argument& e) {  // the design: a property of the config file
     throw DataError(args.config, e.what());
   }
+  const Recording rec = simulate_file_plant(spec, args.plant, config, design, args.seed);
   const std::vector<std::string> comments{
       fmt::format("lashid simulate --plant {} --config {} --seed {}", args.plant, args.config, args.seed),
       plant_summary(spec),

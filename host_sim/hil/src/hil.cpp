@@ -195,18 +195,30 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
   plant_fd = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
 }
 
-void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, HilResult& result) {
+void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, const HilOptions& options,
+               HilResult& result) {
   for (std::size_t i = 0; i < size; ++i) {
     const auto r = decoder.push(data[i]);
-    if (r == link::FrameDecoder::Result::kFrame) detail::collect(decoder.frame(), result);
     if (r == link::FrameDecoder::Result::kDropped) ++result.protocol_errors;
+    if (r != link::FrameDecoder::Result::kFrame) continue;
+    const link::Frame& f = decoder.frame();
+    detail::collect(f, result);
+    if (f.type == link::MessageType::kStatus && options.on_progress) {
+      auto reader = f.reader();
+      const auto stage = static_cast<fw::Stage>(reader.u8());
+      const std::uint32_t samples = reader.u32();
+      if (reader.ok()) options.on_progress(stage, samples);
+    }
   }
 }
 
-// Sends start, plays the plant and collects the reports, until QEMU exits (started by us) or the firmware's kDone
-// frame arrives (attached: QEMU belongs to the user).
-void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, pid_t& qemu, int& link_fd,
-                 int& plant_fd, int& out_fd, HilResult& result) {
+// Sends the design and start, plays the plant and collects the reports, until QEMU exits (started by us) or the
+// firmware's kDone frame arrives (attached: QEMU belongs to the user).
+void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, const fw::RunDesign& design,
+                 pid_t& qemu, int& link_fd, int& plant_fd, int& out_fd, HilResult& result) {
+  link::PayloadWriter design_payload;
+  design.encode(design_payload);
+  write_all(link_fd, frame(link::MessageType::kDesign, design_payload));
   link::PayloadWriter start;
   start.u8(static_cast<std::uint8_t>(link::Command::kStart));
   write_all(link_fd, frame(link::MessageType::kCommand, start));
@@ -233,7 +245,7 @@ void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorde
       }
       const auto size = static_cast<std::size_t>(n);
       if (k == 0) {
-        feed_link(link_decoder, buffer, size, result);
+        feed_link(link_decoder, buffer, size, options, result);
       } else if (k == 1) {
         const auto reply = peer.receive(buffer, size);
         if (!reply.empty()) write_all(plant_fd, reply);
@@ -256,7 +268,7 @@ void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorde
       ::fcntl(*fd, F_SETFL, O_NONBLOCK);
       for (ssize_t n = 0; (n = ::read(*fd, buffer, sizeof(buffer))) > 0;) {
         if (fd == &link_fd) {
-          feed_link(link_decoder, buffer, static_cast<std::size_t>(n), result);
+          feed_link(link_decoder, buffer, static_cast<std::size_t>(n), options, result);
         } else {
           result.console.append(reinterpret_cast<const char*>(buffer), static_cast<std::size_t>(n));
         }
@@ -285,8 +297,8 @@ HilResult run_hil(const HilOptions& options) {
   if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
   }
-  // The design the firmware runs (a paper image's: its scenario must have that design), the plant played (the
-  // scenario's or a plant file's) and the recording, opened before QEMU starts (played_run.hpp).
+  // The design sent (options.design or the scenario's), the plant played (the scenario's or a plant file's) and
+  // the recording, opened before QEMU starts (played_run.hpp).
   const fw::RunDesign design = detail::run_design_of(options);
   AnyPlant plant = detail::played_plant(options, design);
   std::optional<RunRecorder> recorder;
@@ -315,7 +327,8 @@ HilResult run_hil(const HilOptions& options) {
     } else {
       start_qemu(options, dir, qemu, link_fd, plant_fd, out_fd);
     }
-    run_session(options, std::move(plant), recorder ? &*recorder : nullptr, qemu, link_fd, plant_fd, out_fd, result);
+    run_session(options, std::move(plant), recorder ? &*recorder : nullptr, design, qemu, link_fd, plant_fd, out_fd,
+                result);
   } catch (const std::exception& e) {
     cleanup();
     if (!recorder) throw;

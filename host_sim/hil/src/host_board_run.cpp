@@ -1,16 +1,11 @@
-// The firmware on the in-process host board, and which firmware configuration belongs to which scenario.
-#include <algorithm>
-#include <array>
+// The firmware on the in-process host board, and the run-time design of a scenario or a config.
+#include <cstddef>
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <string_view>
-#include <vector>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
-#include "lashid/firmware/paper_configs.hpp"
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hil/hil.hpp"
 #include "played_run.hpp"
@@ -42,6 +37,7 @@ void collect(const hal::link::Frame& f, HilResult& result) {
       if (c.decode(f.reader())) result.cost = c; else ++result.protocol_errors;
       break;
     }
+    case link::MessageType::kDesignStatus: result.design_status = f.size == 1 ? f.payload[0] : -1; break;
     case link::MessageType::kDone: result.done = f.size == 1 ? f.payload[0] : -1; break;
     default: break;
   }
@@ -49,120 +45,76 @@ void collect(const hal::link::Frame& f, HilResult& result) {
 
 }  // namespace detail
 
-namespace {
-
-// Where the scenario's experiment design (n, m, interval, abscissas, lengths) differs from the configuration C the
-// firmware was compiled with, compared in float32 as the firmware holds it. Empty: the same design.
-template <fw::FirmwareConfig C>
-std::vector<std::string> design_differences(const Scenario& s) {
-  std::vector<std::string> out;
-  const ExperimentConfig& c = s.config;
-  const auto compare = [&out](std::string_view what, auto scenario, auto firmware) {
-    if (scenario != firmware) out.push_back(fmt::format("{} {} (firmware {})", what, scenario, firmware));
+fw::RunDesign to_run_design(const ExperimentConfig& config, const RunLengths& lengths) {
+  const auto refuse = [](const std::string& why) {
+    throw std::invalid_argument("the firmware cannot run this design: " + why);
   };
-  compare("n", c.n, C::kOrder);
-  compare("m", c.m, C::kPoints);
-  compare("v_min", static_cast<float>(c.v_min), C::kVMin);
-  compare("v_max", static_cast<float>(c.v_max), C::kVMax);
-  const auto abscissas = [&](std::string_view name, const std::vector<double>& V, const auto& firmware) {
-    std::vector<float> v(V.begin(), V.end());
-    if (!std::equal(v.begin(), v.end(), firmware.begin(), firmware.end())) {
-      out.push_back(fmt::format("{} [{}] (firmware [{}])", name, fmt::join(v, ", "), fmt::join(firmware, ", ")));
-    }
-  };
-  abscissas("V_d", c.V_d, C::kVd);
-  abscissas("V_a", c.V_a, C::kVa);
-  compare("L of the DIS step experiment", s.step_length_d, C::kStepLength);
-  compare("L of the AIS step experiment", s.step_length_a, C::kStepLength);
-  compare("N of the DP experiment", s.pulse_length_d, C::kPulseLengthD);
-  compare("N of the AP experiment", s.pulse_length_a, C::kPulseLengthA);
-  return out;
-}
-
-template <fw::FirmwareConfig C>
-int run_firmware(ScenarioBoard& board) {
-  fw::IdentificationSequencer<ScenarioBoard, C> firmware(board);
-  return static_cast<int>(firmware.run());
-}
-
-// The compiled configuration as the run-time design of a run: what the image executes (no validation phase).
-template <fw::FirmwareConfig C>
-fw::RunDesign run_design_of_config() {
+  if (config.V_d.empty() || config.V_a.empty()) {
+    refuse("it needs both V_d and V_a (it runs the DIS and the AIS and cross-checks them, Remark 3b)");
+  }
+  if (config.n < 1 || config.n > fw::kMaxOrder || config.m < 1 || config.m > fw::kMaxPoints) {
+    refuse(fmt::format("n = {}, m = {} is beyond the image's capacity n <= {}, m <= {}", config.n, config.m,
+                       fw::kMaxOrder, fw::kMaxPoints));
+  }
+  if (lengths.step_length < 0 || lengths.pulse_length_d < 0 || lengths.pulse_length_a < 0 ||
+      lengths.val_length < 0) {
+    refuse("a phase length is negative");
+  }
   fw::RunDesign d;
-  d.op = C::kCheckInterval ? fw::OperatorKind::kBacklash : fw::OperatorKind::kSwitch;
-  d.n = static_cast<std::uint8_t>(C::kOrder);
-  d.m = static_cast<std::uint8_t>(C::kPoints);
-  d.v_min = C::kVMin;
-  d.v_max = C::kVMax;
-  std::copy(C::kVd.begin(), C::kVd.end(), d.V_d.begin());
-  std::copy(C::kVa.begin(), C::kVa.end(), d.V_a.begin());
-  d.step_length = static_cast<std::uint32_t>(C::kStepLength);
-  d.pulse_length_d = static_cast<std::uint32_t>(C::kPulseLengthD);
-  d.pulse_length_a = static_cast<std::uint32_t>(C::kPulseLengthA);
+  d.op = config.op == OperatorKind::kBacklash ? fw::OperatorKind::kBacklash : fw::OperatorKind::kSwitch;
+  d.n = static_cast<std::uint8_t>(config.n);
+  d.m = static_cast<std::uint8_t>(config.m);
+  d.v_min = static_cast<float>(config.v_min);
+  d.v_max = static_cast<float>(config.v_max);
+  for (std::size_t j = 0; j < static_cast<std::size_t>(config.m); ++j) {
+    d.V_d[j] = static_cast<float>(config.V_d[j]);
+    d.V_a[j] = static_cast<float>(config.V_a[j]);
+  }
+  d.step_length = static_cast<std::uint32_t>(lengths.step_length);
+  d.pulse_length_d = static_cast<std::uint32_t>(lengths.pulse_length_d);
+  d.pulse_length_a = static_cast<std::uint32_t>(lengths.pulse_length_a);
+  d.val_length = static_cast<std::uint32_t>(lengths.val_length);
+  d.val_seed = lengths.val_seed;
+  if (const fw::DesignStatus s = fw::check_design(d); s != fw::DesignStatus::kOk) refuse(fw::to_string(s));
   return d;
 }
 
-// The firmware images (firmware/CMakeLists.txt: one per configuration of paper_configs.hpp) and the scenario whose
-// plant each was configured for.
-struct FirmwareBuild {
-  std::string_view scenario;
-  std::string_view config;
-  std::vector<std::string> (*differences)(const Scenario&);
-  int (*run)(ScenarioBoard&);
-  fw::RunDesign (*design)();
-};
-
-constexpr std::array<FirmwareBuild, 2> kFirmwareBuilds{{
-    {"dis_paper", "DisPaperConfig", &design_differences<fw::DisPaperConfig>, &run_firmware<fw::DisPaperConfig>,
-     &run_design_of_config<fw::DisPaperConfig>},
-    {"ais_paper", "AisPaperConfig", &design_differences<fw::AisPaperConfig>, &run_firmware<fw::AisPaperConfig>,
-     &run_design_of_config<fw::AisPaperConfig>},
-}};
-
-const FirmwareBuild& firmware_build(const Scenario& scenario) {
-  for (const FirmwareBuild& b : kFirmwareBuilds) {
-    if (b.scenario == scenario.name) {
-      const std::vector<std::string> d = b.differences(scenario);
-      if (!d.empty()) {
-        throw std::invalid_argument(fmt::format("hil: scenario '{}' does not have the design of the firmware "
-                                                "configuration {}: {}",
-                                                scenario.name, b.config, fmt::join(d, "; ")));
-      }
-      return b;
-    }
+fw::RunDesign run_design_of(const Scenario& scenario) {
+  if (scenario.step_length_d != scenario.step_length_a) {
+    throw std::invalid_argument(fmt::format("hil: scenario '{}' has step experiments of {} and {} samples; the "
+                                            "firmware runs both with one L",
+                                            scenario.name, scenario.step_length_d, scenario.step_length_a));
   }
-  throw std::invalid_argument("hil: no firmware configuration for scenario '" + scenario.name + "'");
+  return to_run_design(scenario.config, RunLengths{.step_length = scenario.step_length_d,
+                                                   .pulse_length_d = scenario.pulse_length_d,
+                                                   .pulse_length_a = scenario.pulse_length_a,
+                                                   .val_length = 0,
+                                                   .val_seed = 1});
 }
-
-}  // namespace
-
-std::string_view firmware_config_of(const Scenario& scenario) { return firmware_build(scenario).config; }
-
-fw::RunDesign firmware_design_of(const Scenario& scenario) { return firmware_build(scenario).design(); }
 
 ScenarioBoard make_scenario_board(const Scenario& scenario, std::uint64_t seed) {
   return ScenarioBoard(AnyPlant(ScenarioPlant(scenario, seed)), static_cast<float>(scenario.config.v_min),
                        static_cast<float>(scenario.config.v_max));
 }
 
-HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed) {
+HilResult run_on_host_board(const std::string& scenario_name, std::uint64_t seed,
+                            const std::optional<fw::RunDesign>& design) {
   HilOptions options;
   options.scenario = scenario_name;
   options.seed = seed;
+  options.design = design;
   return run_on_host_board(options);
 }
 
 HilResult run_on_host_board(const HilOptions& options) {
-  if (options.design) {
-    throw std::invalid_argument("hil: the in-process board runs the paper images' compiled designs only");
-  }
-  const FirmwareBuild& build = firmware_build(find_scenario(options.scenario));
-  const fw::RunDesign design = build.design();
+  const fw::RunDesign design = detail::run_design_of(options);
   std::optional<RunRecorder> recorder;
   detail::start_recording(recorder, options, design);
   ScenarioBoard board(detail::played_plant(options, design), design.v_min, design.v_max);
   HilResult result;
-  result.done = build.run(board);
+  fw::IdentificationSequencer<ScenarioBoard> firmware(board, design);
+  result.done = static_cast<int>(firmware.run());
+  result.design_status = static_cast<int>(firmware.design_status());
   hal::link::FrameDecoder decoder;
   for (std::uint8_t b : board.link_output()) {
     if (decoder.push(b) == hal::link::FrameDecoder::Result::kFrame) detail::collect(decoder.frame(), result);

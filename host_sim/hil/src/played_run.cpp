@@ -16,9 +16,9 @@ namespace lashid::sim::detail {
 fw::RunDesign run_design_of(const HilOptions& options) {
   if (options.design) return *options.design;
   if (options.scenario.empty()) {
-    throw std::invalid_argument("hil: no design: name the scenario whose paper image runs (--scenario)");
+    throw std::invalid_argument("hil: no design: give a config or a scenario");
   }
-  return firmware_design_of(find_scenario(options.scenario));
+  return run_design_of(find_scenario(options.scenario));
 }
 
 AnyPlant played_plant(const HilOptions& options, const fw::RunDesign& design) {

@@ -11,7 +11,7 @@
 
 namespace lashid::sim::detail {
 
-/// options.design, or the compiled design of options.scenario's paper image.
+/// options.design, or the design of options.scenario (run_design_of).
 fw::RunDesign run_design_of(const HilOptions& options);
 
 /// The plant file's plant (its operator starting at the design's v_min), or the scenario's. Throws DataError for a

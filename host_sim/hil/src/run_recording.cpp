@@ -6,11 +6,16 @@
 
 #include <fmt/format.h>
 
+#include "lashid/firmware/sequencer.hpp"
+#include "lashid/hil/hil.hpp"
+
 namespace lashid::sim {
 
 std::uint64_t interval_check_samples(const fw::RunDesign& design) {
-  // The sequencer's kIntervalCheckSamples = 2 x kCheckHalf x kIntervalCheckPeriods = 2 x 2T x 4 (sequencer.hpp).
-  return design.checks_interval() ? std::uint64_t{16} * static_cast<std::uint64_t>(design.period()) : 0U;
+  // The sequencer's square wave: kIntervalCheckPeriods periods of two half-periods of 2T (sequencer.hpp).
+  using Sequencer = fw::IdentificationSequencer<ScenarioBoard>;
+  constexpr auto kPeriods = static_cast<std::uint64_t>(Sequencer::kIntervalCheckPeriods);
+  return design.checks_interval() ? kPeriods * 2U * 2U * static_cast<std::uint64_t>(design.period()) : 0U;
 }
 
 namespace {

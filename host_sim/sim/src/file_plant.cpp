@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "lashid/plant/border.hpp"
-#include "lashid/sim/run_design.hpp"
+#include "lashid/sim/device_validation.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::sim {
@@ -56,17 +56,16 @@ double FilePlant::step(double v) {
 }
 
 Recording simulate_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
-                              std::uint64_t seed) {
+                              const fw::RunDesign& design, std::uint64_t seed) {
   check_plant_covers(spec, config.v_min, config.v_max, plant_name);
-  const RunLengths lengths = run_lengths(config);
-  const fw::RunDesign design = to_run_design(config, lengths);
   SimulationOptions options;
   options.seed = seed;
   options.validation_input = device_validation_input(design);
   options.validation_phase = !options.validation_input.empty();
   FilePlant plant(spec, config.v_min, seed);
-  const PhaseLengths phases{lengths.step_length, lengths.pulse_length_d, lengths.step_length, lengths.pulse_length_a,
-                            lengths.val_length};
+  const auto step = static_cast<int>(design.step_length);
+  const PhaseLengths phases{step, static_cast<int>(design.pulse_length_d), step, static_cast<int>(design.pulse_length_a),
+                            static_cast<int>(design.val_length)};
   return simulate_phases(config, phases, options, [&plant](double v) { return plant.step(v); });
 }
 

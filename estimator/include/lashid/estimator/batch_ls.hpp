@@ -26,13 +26,15 @@ class BatchLeastSquares {
   using Vector = Eigen::Matrix<Scalar, kDim, 1>;
 
   BatchLeastSquares() = default;
-  explicit BatchLeastSquares(const typename Builder::Basis::Nodes& W) { reset(W); }
+  explicit BatchLeastSquares(const typename Builder::Basis::Nodes& W) { (void)reset(W); }
 
-  void reset(const typename Builder::Basis::Nodes& /*W*/) {
+  /// Clears all rows. This dense back-end is compiled for exactly n = N, m = M: kOrderOutOfRange otherwise.
+  Status reset(const typename Builder::Basis::Nodes& /*W*/, int n = N, int m = M) {
     info_.setZero();
     rhs_.setZero();
     yy_ = Scalar(0);
     rows_ = 0;
+    return n == N && m == M ? Status::kOk : Status::kOrderOutOfRange;
   }
 
   Status update(const Builder& builder, Scalar y_tilde) {

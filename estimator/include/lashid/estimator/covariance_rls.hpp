@@ -26,12 +26,14 @@ class CovarianceRls {
   using Vector = Eigen::Matrix<Scalar, kDim, 1>;
 
   CovarianceRls() = default;
-  explicit CovarianceRls(const typename Builder::Basis::Nodes& W, Scalar p0 = Scalar(1e6)) : p0_(p0) { reset(W); }
+  explicit CovarianceRls(const typename Builder::Basis::Nodes& W, Scalar p0 = Scalar(1e6)) : p0_(p0) { (void)reset(W); }
 
-  void reset(const typename Builder::Basis::Nodes& /*W*/) {
+  /// Clears all rows. This dense back-end is compiled for exactly n = N, m = M: kOrderOutOfRange otherwise.
+  Status reset(const typename Builder::Basis::Nodes& /*W*/, int n = N, int m = M) {
     P_ = Matrix::Identity() * p0_;
     theta_.setZero();
     rows_ = 0;
+    return n == N && m == M ? Status::kOk : Status::kOrderOutOfRange;
   }
 
   Status update(const Builder& builder, Scalar y_tilde) {

@@ -25,19 +25,24 @@ enum class Scheme : std::uint8_t {
 /// (3.1) also asks tau_j - tau_{j-1} >= 2, which (3.25) violates for n = 1 (spacing 1: consecutive pulses would
 /// skip the return to the held level, so a backlash would move on a horizontal line, not on the border). We use
 /// s = max(n, 2) in place of n in (3.25); for n >= 2 this is exactly the paper's schedule.
-/// Runtime form (simulator, CLI); PulseSchedule below is the compile-time form used by the firmware.
+/// Run-time form (firmware, simulator, CLI); PulseSchedule below is the compile-time form (static checks, tests).
 namespace schedule {
 constexpr int spacing(int n) { return n < 2 ? 2 : n; }
 constexpr int period(int n, int m) { return spacing(n) * (m + 3); }
 /// tau_j for j = 1..m.
 constexpr int tau(int n, int j) { return j == 1 ? 2 * spacing(n) : (2 + j) * spacing(n); }
+/// Index j in 1..m of the pulse at `phase` = t mod T of the pulse experiment, or 0 when the input is held. O(1):
+/// the pulses sit at multiples of the spacing s, tau_1 = 2s and tau_j = (2 + j)s for j >= 2.
+constexpr int pulse_at_phase(int n, int m, int phase) {
+  const int s = spacing(n);
+  if (phase == 2 * s) return 1;
+  if (phase % s != 0) return 0;
+  const int j = phase / s - 2;
+  return j >= 2 && j <= m ? j : 0;
+}
 /// Index j in 1..m of the pulse at sample t of the pulse experiment, or 0 when the input is held.
 constexpr int pulse_at(int n, int m, std::int64_t t) {
-  const auto phase = static_cast<int>(t % period(n, m));
-  for (int j = 1; j <= m; ++j) {
-    if (tau(n, j) == phase) return j;
-  }
-  return 0;
+  return pulse_at_phase(n, m, static_cast<int>(t % period(n, m)));
 }
 }  // namespace schedule
 
@@ -63,11 +68,13 @@ struct PulseSchedule {
   static_assert(rules_hold(), "pulse schedule violates (3.1)/(3.25)");
 };
 
+/// The levels of one scheme. M is the capacity; the design uses the first m abscissas (m = M unless set).
 template <class Scalar, int M>
 struct ExperimentDesign {
   using Abscissas = Eigen::Matrix<Scalar, M, 1>;
 
   Scheme scheme = Scheme::kDescending;
+  int m = M;  ///< number of abscissas used, 1..M
   Scalar v_min = Scalar(0);  ///< v_m
   Scalar v_max = Scalar(0);  ///< v_M
   Abscissas V = Abscissas::Zero();  ///< V_j^d (DIS) or V_j^a (AIS), j = 1..m, in the paper's order
@@ -76,24 +83,29 @@ struct ExperimentDesign {
   Scalar held_level() const { return scheme == Scheme::kDescending ? v_max : v_min; }
   /// Level of the first sample of the step experiment (3.4)/(4.1); afterwards the held level.
   Scalar step_start_level() const { return scheme == Scheme::kDescending ? v_min : v_max; }
-  /// W_j = V_j - held level, (3.12) and (4.3).
-  Abscissas W() const { return V.array() - held_level(); }
+  /// W_j = V_j - held level, (3.12) and (4.3), for j < m; zero past m.
+  Abscissas W() const {
+    Abscissas w = Abscissas::Zero();
+    for (int j = 0; j < m && j < M; ++j) w(j) = V(j) - held_level();
+    return w;
+  }
   /// F~(W_1) after scaling: -1 for the DIS (3.11c), +1 for the AIS (Remark 3a).
   Scalar scaled_first_point() const { return scheme == Scheme::kDescending ? Scalar(-1) : Scalar(1); }
 
   Status validate() const {
+    if (m < 1 || m > M) return Status::kOrderOutOfRange;
     if (!std::isfinite(v_min) || !std::isfinite(v_max) || !(v_min < v_max)) return Status::kIntervalInvalid;
-    for (int j = 0; j < M; ++j) {
+    for (int j = 0; j < m; ++j) {
       if (!std::isfinite(V(j))) return Status::kAbscissasNotOrdered;
     }
     if (scheme == Scheme::kDescending) {
-      if (V(0) != v_min || !(V(M - 1) < v_max)) return Status::kAbscissasNotOrdered;
-      for (int j = 1; j < M; ++j) {
+      if (V(0) != v_min || !(V(m - 1) < v_max)) return Status::kAbscissasNotOrdered;
+      for (int j = 1; j < m; ++j) {
         if (!(V(j - 1) < V(j))) return Status::kAbscissasNotOrdered;
       }
     } else {
-      if (V(0) != v_max || !(V(M - 1) > v_min)) return Status::kAbscissasNotOrdered;
-      for (int j = 1; j < M; ++j) {
+      if (V(0) != v_max || !(V(m - 1) > v_min)) return Status::kAbscissasNotOrdered;
+      for (int j = 1; j < m; ++j) {
         if (!(V(j - 1) > V(j))) return Status::kAbscissasNotOrdered;
       }
     }

@@ -3,6 +3,7 @@
 // The estimate is available at any time. Heap-free, no I/O; the least-squares back-end is a template parameter
 // (GroupedLeastSquares: the recursive estimator; BatchLeastSquares: the (3.21) reference; CovarianceRls: the
 // textbook baseline).
+// N and M are capacities (fixed-size storage): configure() chooses the order n <= N; the design's m <= M.
 #pragma once
 
 #include <cmath>
@@ -26,14 +27,17 @@ class SchemeIdentifier {
 
   SchemeIdentifier() = default;
 
-  /// Validates the design and clears all state. Until it succeeds every add_* returns kNotConfigured.
-  Status configure(const Design& design) {
+  /// Validates the design and the order n, and clears all state. Until it succeeds every add_* returns
+  /// kNotConfigured. kOrderOutOfRange for n outside [1, N] or a back-end that needs n = N, m = M.
+  Status configure(const Design& design, int n = N) {
     configured_ = false;
+    if (n < 1 || n > N) return Status::kOrderOutOfRange;
     const Status s = design.validate();
     if (s != Status::kOk) return s;
     design_ = design;
-    builder_ = Builder(design.W());
-    solver_.reset(design.W());
+    held_ = design.held_level();
+    builder_ = Builder(design.W(), n, design.m);
+    if (solver_.reset(design.W(), n, design.m) != Status::kOk) return Status::kOrderOutOfRange;
     step_ = StepMean<Scalar>{};
     step_t_ = 0;
     pulse_t_ = 0;
@@ -58,14 +62,29 @@ class SchemeIdentifier {
     if (!configured_) return Status::kNotConfigured;
     if (!step_.ready()) return Status::kStepMeanMissing;
     ++pulse_t_;
-    const Scalar v_tilde = v - design_.held_level();
+    const Scalar v_tilde = v - held_;
     const Scalar y_tilde = y - step_.mean();
     Status s = Status::kOk;
-    if (builder_.ready()) s = solver_.update(builder_, y_tilde);
-    builder_.push(v_tilde, y_tilde);
+    // One dispatch on the order for the whole sample: the builder's and the solver's kernels compiled for n.
+    with_order<N>(builder_.order(), [&](auto order) {
+      constexpr int Nn = decltype(order)::value;
+      if (builder_.ready()) {
+        if constexpr (requires(SparseRegressor<Scalar, N, M> r) { solver_.template update_n<Nn>(r, y_tilde); }) {
+          SparseRegressor<Scalar, N, M> row;
+          s = builder_.template sparse_n<Nn>(row);
+          if (s == Status::kOk) s = solver_.template update_n<Nn>(row, y_tilde);
+        } else {
+          s = solver_.update(builder_, y_tilde);
+        }
+      }
+      builder_.template push_n<Nn>(v_tilde, y_tilde);
+    });
     if (s != Status::kOk) return s;
-    if (!std::isfinite(v) || !std::isfinite(y)) return Status::kNonFinite;
-    if (builder_.newest_class() == Builder::Basis::kOffDesign) return Status::kInputOffDesign;
+    if (!finite(y_tilde)) return Status::kNonFinite;
+    // A NaN or infinite v is never a design level: classified off the design, it is told apart only here.
+    if (builder_.newest_class() == Builder::Basis::kOffDesign) {
+      return finite(v) ? Status::kInputOffDesign : Status::kNonFinite;
+    }
     return Status::kOk;
   }
 
@@ -73,30 +92,39 @@ class SchemeIdentifier {
   /// standard errors and the residual variance (the back-ends that always compute them ignore it).
   Estimate estimate(bool with_std_errors = true) const {
     Estimate e;
+    estimate_into(e, with_std_errors);
+    return e;
+  }
+
+  /// estimate() into `e`, writing only the entries of this n and m (a, b: n; c, F: m; Theta: n + n m) where the
+  /// back-end allows it: what the firmware does every pulse period, without clearing or copying the capacity.
+  void estimate_into(Estimate& e, bool with_std_errors = true) const {
     e.scheme = design_.scheme;
     e.ybar0 = step_.mean();
     if (!configured_) {
       e.status = Status::kNotConfigured;
-      return e;
+      return;
     }
     if (!step_.ready()) {
       e.status = Status::kStepMeanMissing;
-      return e;
+      return;
     }
-    if constexpr (requires { solver_.solve(with_std_errors); }) {
+    if constexpr (requires { solver_.solve_into(e.ls, with_std_errors); }) {
+      solver_.solve_into(e.ls, with_std_errors);
+    } else if constexpr (requires { solver_.solve(with_std_errors); }) {
       e.ls = solver_.solve(with_std_errors);
     } else {
       e.ls = solver_.solve();
     }
     if (e.ls.status != Status::kOk) {
       e.status = e.ls.status;
-      return e;
+      return;
     }
     e.status = recover(design_, e);
-    return e;
   }
 
   const Design& design() const { return design_; }
+  int order() const { return builder_.order(); }
   const StepMean<Scalar>& step_mean() const { return step_; }
   const LeastSquares& least_squares() const { return solver_; }
   std::int64_t step_samples() const { return step_t_; }
@@ -104,6 +132,7 @@ class SchemeIdentifier {
 
  private:
   Design design_{};
+  Scalar held_ = Scalar(0);  // design_.held_level(), read every sample
   Builder builder_{typename Builder::Basis::Nodes(Builder::Basis::Nodes::Ones())};
   LeastSquares solver_{};
   StepMean<Scalar> step_{};

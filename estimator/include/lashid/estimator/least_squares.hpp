@@ -9,10 +9,14 @@
 
 namespace lashid::est {
 
+/// N and M are capacities: theta holds the n + n m entries of the order n and points m solved, then zeros.
 template <class Scalar, int N, int M>
 struct LsSolution {
   static constexpr int kDim = N + N * M;
   using Theta = Eigen::Matrix<Scalar, kDim, 1>;
+
+  int n = N;  ///< order solved for
+  int m = M;  ///< points solved for
 
   Theta theta = Theta::Zero();
   Theta std_error = Theta::Zero();  ///< sqrt of the diagonal of sigma^2 (Phi^T Phi)^-1 (zero if not available)

@@ -15,6 +15,7 @@
 
 namespace lashid::est {
 
+/// N and M are capacities: a, b hold n entries and c, F m entries (n = ls.n, m = ls.m), then zeros.
 template <class Scalar, int N, int M>
 struct SchemeEstimate {
   Scheme scheme = Scheme::kDescending;
@@ -29,30 +30,43 @@ struct SchemeEstimate {
   Status status = Status::kNotExcited;
 };
 
-/// Fills a, b, c, F of `out` from Theta (out.ls.theta) and ybar0 (out.ybar0).
+/// Fills a, b, c, F of `out` from Theta (out.ls.theta, of order out.ls.n) and ybar0 (out.ybar0). Only the first n
+/// (a, b) and m (c, F) entries are written: the firmware recovers into the same estimate every pulse period.
 template <class Scalar, int N, int M>
 Status recover(const ExperimentDesign<Scalar, M>& design, SchemeEstimate<Scalar, N, M>& out) {
   const auto& theta = out.ls.theta;
-  const Eigen::Matrix<Scalar, M, 1> W = design.W();
-  const auto mu = [&](int i, int j) { return theta(N + j * N + i); };  // 0-based i (lag), j (point)
+  const int n = out.ls.n;
+  const int m = design.m;
+  if (n < 1 || n > N || m < 1 || m > M || out.ls.m != m) return Status::kOrderOutOfRange;
+  const Scalar held = design.held_level();
+  const auto mu = [&](int i, int j) { return theta(n + j * n + i); };  // 0-based i (lag), j (point)
 
   out.scheme = design.scheme;
-  out.a = theta.template head<N>();
-  out.c(0) = design.scaled_first_point() / W(0);
-  for (int i = 0; i < N; ++i) out.b(i) = mu(i, 0) / out.c(0);
-  const Scalar bb = out.b.squaredNorm();
-  const Scalar B1 = out.b.sum();
+  out.c(0) = design.scaled_first_point() / (design.V(0) - held);
+  Scalar bb = Scalar(0);
+  Scalar B1 = Scalar(0);
+  Scalar A1 = Scalar(1);
+  for (int i = 0; i < n; ++i) {
+    out.a(i) = theta(i);
+    out.b(i) = mu(i, 0) / out.c(0);
+    bb += out.b(i) * out.b(i);
+    B1 += out.b(i);
+    A1 += out.a(i);
+  }
   if (!(bb > Scalar(0)) || !(std::fabs(B1) > Scalar(0)) || !std::isfinite(bb)) return Status::kDegenerateGain;
-  for (int j = 1; j < M; ++j) {
+  for (int j = 1; j < m; ++j) {
     Scalar num = Scalar(0);
-    for (int i = 0; i < N; ++i) num += out.b(i) * mu(i, j);
+    for (int i = 0; i < n; ++i) num += out.b(i) * mu(i, j);
     out.c(j) = num / bb;
   }
-  const Scalar A1 = Scalar(1) + out.a.sum();
   out.held_output = A1 / B1 * out.ybar0;
-  out.F_centered = out.c.cwiseProduct(W);
-  out.F = out.F_centered.array() + out.held_output;
-  return out.F.allFinite() ? Status::kOk : Status::kDegenerateGain;
+  bool finite = std::isfinite(out.held_output);
+  for (int j = 0; j < m; ++j) {
+    out.F_centered(j) = out.c(j) * (design.V(j) - held);
+    out.F(j) = out.F_centered(j) + out.held_output;
+    finite = finite && std::isfinite(out.F(j));
+  }
+  return finite ? Status::kOk : Status::kDegenerateGain;
 }
 
 }  // namespace lashid::est

@@ -38,4 +38,11 @@ constexpr const char* to_string(Status s) {
 
 constexpr bool ok(Status s) { return s == Status::kOk; }
 
+/// x is neither NaN nor infinite: x - x is 0 exactly for finite x and NaN otherwise. Two instructions and a branch
+/// on Cortex-M4F, against a classification for std::isfinite; the per-sample checks use it.
+template <class Scalar>
+constexpr bool finite(Scalar x) {
+  return x - x == Scalar(0);
+}
+
 }  // namespace lashid::est

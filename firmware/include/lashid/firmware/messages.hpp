@@ -7,12 +7,14 @@
 #include <cstdint>
 
 #include "lashid/estimator/design.hpp"
+#include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/link_protocol.hpp"
 
 namespace lashid::fw {
 
-inline constexpr int kMaxRecordOrder = 8;
-inline constexpr int kMaxRecordPoints = 16;
+/// The records hold what the image can estimate (run_design.hpp's capacity).
+inline constexpr int kMaxRecordOrder = kMaxOrder;
+inline constexpr int kMaxRecordPoints = kMaxPoints;
 
 /// Stages of the identification sequence, as reported in kStatus.
 enum class Stage : std::uint8_t {
@@ -182,6 +184,8 @@ struct CostRecord {
   }
 };
 
+static_assert(EstimateRecord::encoded_size(kMaxRecordOrder, kMaxRecordPoints) <= hal::link::kMaxPayload,
+              "the estimate of the largest design the image accepts must fit one link frame");
 static_assert(CrossCheckRecord::kEncodedSize <= hal::link::kMaxPayload);
 static_assert(CostRecord::kEncodedSize <= hal::link::kMaxPayload);
 

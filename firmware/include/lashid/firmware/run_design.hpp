@@ -46,6 +46,7 @@ enum class [[nodiscard]] DesignStatus : std::uint8_t {
   kPulseDTooShort,      ///< N of the DP experiment < two pulse periods 2T, T = s (m + 3) (Theorem 3.1)
   kPulseATooShort,      ///< N of the AP experiment < 2T
   kRunTooLong,          ///< the samples of the whole run do not fit the firmware's 32-bit counters
+  kBusy,                ///< a design arrived after the start: a run's design cannot change (the run goes on)
 };
 
 constexpr const char* to_string(DesignStatus s) {
@@ -68,6 +69,7 @@ constexpr const char* to_string(DesignStatus s) {
     case DesignStatus::kPulseDTooShort: return "pulse_length_d shorter than two pulse periods (Theorem 3.1)";
     case DesignStatus::kPulseATooShort: return "pulse_length_a shorter than two pulse periods (Theorem 3.1)";
     case DesignStatus::kRunTooLong: return "the run's sample count does not fit 32 bits";
+    case DesignStatus::kBusy: return "a run is under way: its design cannot change";
   }
   return "unknown design status";
 }

@@ -1,9 +1,13 @@
-// The identification sequence as a state machine, one sample per step(), behind any hal::Board:
-//   [interval check, Section 3.4 step 1 (backlash)] -> DIS step experiment (3.4) -> DP pulse experiment (3.1) with
-//   the recursive estimator updated every sample and solved once per pulse period -> DIS estimate -> AIS step
-//   experiment (4.1) -> AP pulse experiment (4.2) -> AIS estimate -> cross-check of the two linear estimates
-//   (Remark 3b) -> reports over the link (estimates, cross-check, cost) -> done.
-// Commands over the link (hal/link_protocol.hpp): start, stop, query. Heap-free, no exceptions, float32.
+// The identification sequence as a state machine, one sample per step(), behind any hal::Board, for any design
+// within the image's capacity (run_design.hpp: n <= 4, m <= 10), received at run time:
+//   kDesign -> check_design (answered with kDesignStatus; a refused design ends the run, nothing is actuated) ->
+//   kStart -> [interval check, Section 3.4 step 1 (backlash)] -> DIS step experiment (3.4) -> DP pulse experiment
+//   (3.1) with the recursive estimator updated every sample and solved once per pulse period -> DIS estimate -> AIS
+//   step experiment (4.1) -> AP pulse experiment (4.2) -> AIS estimate -> validation phase (ValidationExcitation)
+//   -> cross-check of the two linear estimates (Remark 3b) -> reports over the link (estimates, cross-check, cost)
+//   -> done.
+// Each stage change is announced with a kStatus frame (progress for the host). Commands over the link
+// (hal/link_protocol.hpp): design, start, stop, query. Heap-free, no exceptions, float32.
 #pragma once
 
 #include <array>
@@ -15,39 +19,34 @@
 #include "lashid/estimator/cross_check.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
-#include "lashid/firmware/config.hpp"
 #include "lashid/firmware/messages.hpp"
+#include "lashid/firmware/run_design.hpp"
+#include "lashid/firmware/validation_excitation.hpp"
 #include "lashid/hal/board.hpp"
 #include "lashid/hal/link_protocol.hpp"
 
 namespace lashid::fw {
 
-template <hal::Board B, FirmwareConfig C>
+template <hal::Board B>
 class IdentificationSequencer {
-  static_assert(design_rules_hold<C>(), "the firmware configuration violates the paper's design rules");
-  // Every report must fit one frame at this configuration's orders: the estimate is the only variable-size one
-  // (n = 8, m = 16 would need 204 bytes).
-  static_assert(C::kOrder <= kMaxRecordOrder && C::kPoints <= kMaxRecordPoints,
-                "the configuration's orders exceed EstimateRecord's arrays");
-  static_assert(EstimateRecord::encoded_size(C::kOrder, C::kPoints) <= hal::link::kMaxPayload,
-                "an EstimateRecord of this configuration does not fit the link's frame (hal::link::kMaxPayload)");
-
  public:
-  static constexpr int N = C::kOrder;
-  static constexpr int M = C::kPoints;
-  static constexpr int kPeriod = est::schedule::period(N, M);
-  /// Interval check: a square wave v_M / v_m of half-period kCheckHalf = 2T, kIntervalCheckPeriods periods. The
-  /// first period and the first half of every half-period are transient and not used: only settled samples count,
-  /// otherwise an oscillating transient inflates the variance and hides the difference.
-  static constexpr int kCheckHalf = 2 * kPeriod;
+  static constexpr int N = kMaxOrder;
+  static constexpr int M = kMaxPoints;
+  /// Interval check: a square wave v_M / v_m of half-period 2T, kIntervalCheckPeriods periods. The first period
+  /// and the first half of every half-period are transient and not used: only settled samples count, otherwise
+  /// an oscillating transient inflates the variance and hides the difference.
   static constexpr int kIntervalCheckPeriods = 4;
-  static constexpr int kIntervalCheckSamples = 2 * kCheckHalf * kIntervalCheckPeriods;
+  /// Remark 3b threshold, in standard errors of the difference.
+  static constexpr float kCrossCheckSigmas = 4.0f;
   using Identifier = est::SchemeIdentifier<float, N, M>;
   using Estimate = typename Identifier::Estimate;
   using Design = est::ExperimentDesign<float, M>;
 
-  /// auto_start: begin at once; otherwise wait in Stage::kIdle for a start command on the link.
-  explicit IdentificationSequencer(B& board, bool auto_start = true) : board_(board), started_(auto_start) {}
+  /// Waits in Stage::kIdle for a design (kDesign) and a start command on the link.
+  explicit IdentificationSequencer(B& board) : board_(board) {}
+  /// Runs `design` without waiting for the link (the host tests, a fixed-design image). A design that breaks a
+  /// rule ends the run at once with RunStatus::kDesignRejected, as if it had come over the link.
+  IdentificationSequencer(B& board, const RunDesign& design) : board_(board), started_(true) { accept(design); }
 
   /// Runs to the end (or until stopped). Returns the overall status, also sent in the kDone frame.
   RunStatus run() {
@@ -61,13 +60,20 @@ class IdentificationSequencer {
     poll_link();
     switch (stage_) {
       case Stage::kIdle:
-        if (started_) enter(C::kCheckInterval ? Stage::kIntervalCheck : Stage::kStepD);
+        if (started_) {
+          if (!design_ok_) {
+            finish(RunStatus::kDesignRejected);  // a start without an accepted design: nothing runs
+          } else {
+            enter(design_.checks_interval() ? Stage::kIntervalCheck : Stage::kStepD);
+          }
+        }
         return true;
       case Stage::kIntervalCheck: return interval_check_sample();
       case Stage::kStepD:
       case Stage::kStepA: return step_sample();
       case Stage::kPulseD:
       case Stage::kPulseA: return pulse_sample();
+      case Stage::kValidation: return validation_sample();
       case Stage::kReport:
         report();
         return false;
@@ -78,30 +84,50 @@ class IdentificationSequencer {
 
   Stage stage() const { return stage_; }
   RunStatus result() const { return result_; }
-  const Estimate& dis() const { return dis_; }
-  const Estimate& ais() const { return ais_; }
+  DesignStatus design_status() const { return design_status_; }
+  const RunDesign& design() const { return design_; }
+  const Estimate& latest() const { return latest_; }
+  /// The schemes' final estimates as reported (status kNotExcited for a scheme that did not run).
+  const EstimateRecord& dis() const { return dis_; }
+  const EstimateRecord& ais() const { return ais_; }
   const CrossCheckRecord& cross_check() const { return cross_; }
   const CostRecord& cost() const { return cost_; }
 
  private:
-  static Design design(est::Scheme scheme) {
+  Design scheme_design(est::Scheme scheme) const {
     Design d;
     d.scheme = scheme;
-    d.v_min = C::kVMin;
-    d.v_max = C::kVMax;
-    const auto& V = scheme == est::Scheme::kDescending ? C::kVd : C::kVa;
-    for (int j = 0; j < M; ++j) d.V(j) = V[static_cast<std::size_t>(j)];
+    d.m = design_.m;
+    d.v_min = design_.v_min;
+    d.v_max = design_.v_max;
+    const auto& V = scheme == est::Scheme::kDescending ? design_.V_d : design_.V_a;
+    for (int j = 0; j < design_.m; ++j) d.V(j) = V[static_cast<std::size_t>(j)];
     return d;
+  }
+
+  /// Checks and keeps a design; a refused one ends the run (reported, nothing actuated).
+  void accept(const RunDesign& d) {
+    design_status_ = check_design(d);
+    design_ok_ = design_status_ == DesignStatus::kOk;
+    if (design_ok_) {
+      design_ = d;
+    } else {
+      finish(RunStatus::kDesignRejected);
+    }
   }
 
   void enter(Stage next) {
     stage_ = next;
     t_ = 0;
+    phase_ = 0;
     if (next == Stage::kStepD || next == Stage::kStepA) {
-      const Design d = design(next == Stage::kStepD ? est::Scheme::kDescending : est::Scheme::kAscending);
-      (void)identifier_.configure(d);  // valid by design_rules_hold<C>()
-      generator_ = est::ExcitationGenerator<float, N, M>(d);
+      const Design d = scheme_design(next == Stage::kStepD ? est::Scheme::kDescending : est::Scheme::kAscending);
+      (void)identifier_.configure(d, design_.n);  // valid: check_design() accepted the run's design
+      generator_ = est::ExcitationGenerator<float, N, M>(d, design_.n);
+    } else if (next == Stage::kValidation) {
+      validation_.restart(design_);
     }
+    send_status();
   }
 
   void finish(RunStatus status) {
@@ -131,14 +157,15 @@ class IdentificationSequencer {
   }
 
   bool interval_check_sample() {
-    const bool high = (t_ / kCheckHalf) % 2 == 0;
+    const auto half_period = static_cast<std::uint32_t>(2 * design_.period());
+    const bool high = (t_ / half_period) % 2 == 0;
     float y = 0;
-    if (!exchange(high ? C::kVMax : C::kVMin, y)) return true;
-    if (t_ >= 2 * kCheckHalf && t_ % kCheckHalf >= kCheckHalf / 2) {
+    if (!exchange(high ? design_.v_max : design_.v_min, y)) return true;
+    if (t_ >= 2 * half_period && t_ % half_period >= half_period / 2) {
       est::StepMean<float>& half = high ? high_ : low_;
       (void)half.add(static_cast<std::int64_t>(half.count()) + 1, y);
     }
-    if (++t_ < kIntervalCheckSamples) return true;
+    if (++t_ < 2 * half_period * kIntervalCheckPeriods) return true;
     // Fig. 5 / Remark 1b: if the interval is too narrow the output stops following v after a cycle, so the mean
     // output at v_M and at v_m coincide (up to noise). Require a difference beyond 6 standard errors.
     const float spread = std::sqrt(high_.variance() / static_cast<float>(high_.count()) +
@@ -157,12 +184,12 @@ class IdentificationSequencer {
     if (!exchange(v, y)) return true;
     // On the design by construction; a non-finite y is left out of the mean, and counted.
     if (identifier_.add_step_sample(v, y) != est::Status::kOk) ++cost_.rejected_samples;
-    if (++t_ > C::kStepLength) enter(stage_ == Stage::kStepD ? Stage::kPulseD : Stage::kPulseA);
+    if (++t_ > design_.step_length) enter(stage_ == Stage::kStepD ? Stage::kPulseD : Stage::kPulseA);
     return true;
   }
 
   bool pulse_sample() {
-    const float v = generator_.pulse_input(t_);
+    const float v = generator_.pulse_input_at_phase(phase_);
     float y = 0;
     if (!exchange(v, y)) return true;
     const std::uint32_t start = board_.cycles();
@@ -171,56 +198,81 @@ class IdentificationSequencer {
     ++cost_.updates;
     if (update != est::Status::kOk) ++cost_.rejected_samples;  // a row left out of the least squares
     ++t_;
+    if (++phase_ == generator_.period()) phase_ = 0;
     const bool dis = stage_ == Stage::kPulseD;
-    // Indexed, not `dis ? D : A`: configs with equal lengths would make the branches identical.
-    constexpr std::array<int, 2> kPulseLengths = {C::kPulseLengthD, C::kPulseLengthA};
-    const int length = kPulseLengths[dis ? 0U : 1U];
-    if (t_ % kPeriod == 0 || t_ == length) {  // an up-to-date estimate at least once per pulse period
+    const std::uint32_t length = dis ? design_.pulse_length_d : design_.pulse_length_a;
+    if (phase_ == 0 || t_ == length) {  // an up-to-date estimate at least once per pulse period
       const std::uint32_t solve_start = board_.cycles();
-      latest_ = identifier_.estimate(/*with_std_errors=*/false);
+      identifier_.estimate_into(latest_, /*with_std_errors=*/false);
       cost_.solve_cycles += board_.cycles() - solve_start;
       ++cost_.solves;
     }
     if (t_ == length) {
-      (dis ? dis_ : ais_) = identifier_.estimate();  // the final one with standard errors (cross-check, report)
+      // The final estimate, with standard errors (cross-check, report), kept as its record: a third of the RAM.
+      identifier_.estimate_into(latest_);
+      (dis ? dis_ : ais_) = record(latest_, dis ? est::Scheme::kDescending : est::Scheme::kAscending);
       if (dis) {
         enter(Stage::kStepA);
       } else {
-        const bool ok = dis_.status == est::Status::kOk && ais_.status == est::Status::kOk;
-        finish(ok ? RunStatus::kOk : RunStatus::kEstimatorFailed);
+        const bool ok = scheme_ok(dis_) && scheme_ok(ais_);
+        estimates_result_ = ok ? RunStatus::kOk : RunStatus::kEstimatorFailed;
+        if (design_.val_length > 0) {
+          enter(Stage::kValidation);
+        } else {
+          finish(estimates_result_);
+        }
       }
     }
     return true;
   }
 
-  static EstimateRecord record(const Estimate& e, est::Scheme scheme) {
+  /// The validation phase: recorded by the host for `lashid diagnose`; nothing is estimated on the device.
+  bool validation_sample() {
+    float y = 0;
+    if (!exchange(validation_.next(), y)) return true;
+    if (++t_ == design_.val_length) finish(estimates_result_);
+    return true;
+  }
+
+  /// The record of a scheme that did not run (reported as such when a run ends early).
+  static EstimateRecord not_run(est::Scheme scheme) {
+    EstimateRecord r;
+    r.scheme = scheme;
+    r.status = static_cast<std::uint8_t>(est::Status::kNotExcited);
+    return r;
+  }
+
+  static bool scheme_ok(const EstimateRecord& r) { return r.status == static_cast<std::uint8_t>(est::Status::kOk); }
+
+  EstimateRecord record(const Estimate& e, est::Scheme scheme) const {
     EstimateRecord r;
     r.scheme = scheme;
     r.status = static_cast<std::uint8_t>(e.status);
-    r.n = N;
-    r.m = M;
+    r.n = design_.n;
+    r.m = design_.m;
     r.ybar0 = e.ybar0;
     r.noise_variance = e.ls.noise_variance;
-    for (int i = 0; i < N; ++i) {
+    for (int i = 0; i < design_.n; ++i) {
       const auto k = static_cast<std::size_t>(i);
       r.a[k] = e.a(i);
       r.se_a[k] = e.ls.std_error(i);
       r.b[k] = e.b(i);
-      r.se_b[k] = est::b_std_error(e.ls.std_error(N + i), C::kVMin, C::kVMax);
+      r.se_b[k] = est::b_std_error(e.ls.std_error(design_.n + i), design_.v_min, design_.v_max);
     }
-    for (int j = 0; j < M; ++j) r.F[static_cast<std::size_t>(j)] = e.F(j);
+    for (int j = 0; j < design_.m; ++j) r.F[static_cast<std::size_t>(j)] = e.F(j);
     return r;
   }
 
-  static est::LinearEstimate<float> linear_part(const EstimateRecord& r) {
-    return {std::span<const float>(r.a.data(), N), std::span<const float>(r.se_a.data(), N),
-            std::span<const float>(r.b.data(), N), std::span<const float>(r.se_b.data(), N)};
+  est::LinearEstimate<float> linear_part(const EstimateRecord& r) const {
+    const auto n = static_cast<std::size_t>(design_.n);
+    return {std::span<const float>(r.a.data(), n), std::span<const float>(r.se_a.data(), n),
+            std::span<const float>(r.b.data(), n), std::span<const float>(r.se_b.data(), n)};
   }
 
   // Remark 3b on the reported a, b and standard errors; not available unless both schemes succeeded.
   void compute_cross_check(const EstimateRecord& dis, const EstimateRecord& ais) {
-    cross_.threshold = C::kCrossCheckSigmas;
-    if (dis_.status != est::Status::kOk || ais_.status != est::Status::kOk) {
+    cross_.threshold = kCrossCheckSigmas;
+    if (!scheme_ok(dis) || !scheme_ok(ais)) {
       cross_.max_z = -1.0f;
       return;
     }
@@ -231,8 +283,8 @@ class IdentificationSequencer {
   }
 
   void report() {
-    const EstimateRecord dis = record(dis_, est::Scheme::kDescending);
-    const EstimateRecord ais = record(ais_, est::Scheme::kAscending);
+    const EstimateRecord& dis = dis_;
+    const EstimateRecord& ais = ais_;
     compute_cross_check(dis, ais);
     // Optional board extensions (hal/board.hpp): a board that cannot tell does not model the concept.
     if constexpr (hal::ReportsStackUse<B>) {
@@ -262,7 +314,7 @@ class IdentificationSequencer {
   }
 
   /// A payload that overflowed the writer is truncated: it is not sent (the host would decode garbage or reject
-  /// it), and it is counted. The static_asserts above make this unreachable for the configuration's records.
+  /// it), and it is counted. The static_asserts of messages.hpp make this unreachable for the image's records.
   void send(hal::link::MessageType type, const hal::link::PayloadWriter& w) {
     if (!w.ok()) {
       ++cost_.send_failures;
@@ -271,6 +323,34 @@ class IdentificationSequencer {
     std::uint8_t frame[hal::link::kMaxFrame];
     const std::size_t size = hal::link::encode_frame(type, seq_++, w.data(), w.size(), frame);
     if (size == 0 || board_.link_write(frame, size) != hal::Status::kOk) ++cost_.link_errors;
+  }
+
+  /// kStatus: the stage, samples exchanged so far, link errors. Sent on every stage change and on kQuery.
+  void send_status() {
+    hal::link::PayloadWriter w;
+    w.u8(static_cast<std::uint8_t>(stage_));
+    w.u32(cost_.samples);
+    w.u32(cost_.link_errors);
+    send(hal::link::MessageType::kStatus, w);
+  }
+
+  void on_design(const hal::link::Frame& f) {
+    DesignStatus status = DesignStatus::kBusy;
+    if (stage_ == Stage::kIdle && !started_) {
+      RunDesign d;
+      status = d.decode(f.reader());
+      if (status == DesignStatus::kOk) {
+        accept(d);
+        status = design_status_;
+      } else {
+        design_status_ = status;
+        design_ok_ = false;
+        finish(RunStatus::kDesignRejected);
+      }
+    }
+    hal::link::PayloadWriter w;
+    w.u8(static_cast<std::uint8_t>(status));
+    send(hal::link::MessageType::kDesignStatus, w);
   }
 
   void poll_link() {
@@ -286,35 +366,38 @@ class IdentificationSequencer {
       if (r == hal::link::FrameDecoder::Result::kDropped) ++cost_.link_errors;
       if (r != hal::link::FrameDecoder::Result::kFrame) continue;
       const auto& f = decoder_.frame();
+      if (f.type == hal::link::MessageType::kDesign) {
+        on_design(f);
+        continue;
+      }
       if (f.type != hal::link::MessageType::kCommand || f.size != 1) continue;
       switch (static_cast<hal::link::Command>(f.payload[0])) {
         case hal::link::Command::kStart: started_ = true; break;
         case hal::link::Command::kStop:
           if (stage_ != Stage::kDone && stage_ != Stage::kReport) finish(RunStatus::kStopped);
           break;
-        case hal::link::Command::kQuery: {
-          hal::link::PayloadWriter w;
-          w.u8(static_cast<std::uint8_t>(stage_));
-          w.u32(cost_.samples);
-          w.u32(cost_.link_errors);
-          send(hal::link::MessageType::kStatus, w);
-          break;
-        }
+        case hal::link::Command::kQuery: send_status(); break;
       }
     }
   }
 
   B& board_;
-  bool started_;
+  bool started_ = false;
+  bool design_ok_ = false;
+  DesignStatus design_status_ = DesignStatus::kMalformed;  // no design yet
+  RunDesign design_{};
   Stage stage_ = Stage::kIdle;
   RunStatus result_ = RunStatus::kOk;
-  std::int64_t t_ = 0;
+  RunStatus estimates_result_ = RunStatus::kOk;
+  std::uint32_t t_ = 0;
+  int phase_ = 0;  // t mod T in the pulse experiments
   std::uint8_t seq_ = 0;
   Identifier identifier_{};
-  est::ExcitationGenerator<float, N, M> generator_{design(est::Scheme::kDescending)};
-  Estimate latest_{};
-  Estimate dis_{};
-  Estimate ais_{};
+  est::ExcitationGenerator<float, N, M> generator_{Design{}, 1};
+  ValidationExcitation validation_{};
+  Estimate latest_{};  // the estimate of the current pulse period, updated in place
+  EstimateRecord dis_ = not_run(est::Scheme::kDescending);
+  EstimateRecord ais_ = not_run(est::Scheme::kAscending);
   est::StepMean<float> high_{};
   est::StepMean<float> low_{};
   CrossCheckRecord cross_{};

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,23 +26,26 @@ struct HilOptions {
   std::string attach_link;
   std::string attach_plant;
   std::string scenario;                 ///< the plant the host plays (dis_paper, ais_paper, ...)
+  /// The design sent to the firmware before the start; none: the scenario's (run_design_of).
+  std::optional<fw::RunDesign> design;
   std::uint64_t seed = 1;
   std::string machine = "mps2-an386";   ///< QEMU machine
   std::string qemu = "qemu-system-arm";
   double timeout_seconds = 300;         ///< wall-clock limit for the whole run; QEMU is killed after it
   int corrupt_every = 0;                ///< > 0: flip one bit in every k-th measurement frame (fault injection)
   bool icount = false;                  ///< QEMU -icount shift=0: deterministic cycle counts, much slower I/O
+  /// Called on each kStatus frame (the firmware announces every stage change): progress while the run goes on.
+  std::function<void(fw::Stage stage, std::uint32_t samples)> on_progress;
   // Issue 10, plant files and recording:
   std::string plant_file;               ///< play this plant file (io/plant_file.hpp) instead of the scenario's plant
   std::string record;                   ///< write every exchanged sample here as a recording (run_recording.hpp)
-  /// The design the firmware runs. Unset: the compiled design of `scenario`'s paper image (firmware_design_of).
-  std::optional<fw::RunDesign> design;
 };
 
 struct HilResult {
   std::vector<fw::EstimateRecord> estimates;  ///< in the order received (DIS, then AIS)
   std::optional<fw::CrossCheckRecord> cross_check;
   std::optional<fw::CostRecord> cost;
+  int design_status = -1;             ///< fw::DesignStatus the firmware answered to the design, -1 if none arrived
   int done = -1;                      ///< fw::RunStatus of the kDone frame, -1 if none arrived
   int qemu_exit = -1;                 ///< QEMU's exit status (the firmware's semihosting exit code)
   std::uint32_t samples = 0;          ///< plant steps taken by the host
@@ -66,19 +70,29 @@ struct QemuCommand {
 /// The program followed by its arguments.
 std::vector<std::string> qemu_command_line(const QemuCommand& command);
 
-/// The firmware configuration (firmware/paper_configs.hpp) built for `scenario`'s plant, e.g. "DisPaperConfig".
-/// Throws std::invalid_argument when there is none, or when the scenario's design (n, m, interval, abscissas,
-/// lengths) differs from the configuration's: the firmware would run other experiments than the host plays.
-std::string_view firmware_config_of(const Scenario& scenario);
+/// The phase lengths of a firmware run.
+struct RunLengths {
+  int step_length = 0;     ///< L of both step experiments (the firmware uses one L for both)
+  int pulse_length_d = 0;  ///< N of the DP experiment
+  int pulse_length_a = 0;  ///< N of the AP experiment
+  int val_length = 0;      ///< samples of the validation phase
+  std::uint32_t val_seed = 1;
+};
 
-/// The design the paper image of `scenario` runs, as a run-time design (val_length 0: the paper images have no
-/// validation phase). Throws as firmware_config_of.
-fw::RunDesign firmware_design_of(const Scenario& scenario);
+/// The design of a firmware run for `config` (float32, as the firmware holds it) with `lengths`. Throws
+/// std::invalid_argument naming the rule (fw::check_design's DesignStatus) when the firmware would refuse it,
+/// e.g. n or m beyond the image's capacity, or a config without V_d or V_a (the firmware runs both schemes).
+fw::RunDesign to_run_design(const ExperimentConfig& config, const RunLengths& lengths);
 
-/// Runs QEMU with the firmware and plays the scenario's plant (or options.plant_file's), recording the exchanged
-/// samples to options.record if set (also when the run stops early: the recording is then marked partial). Throws std::runtime_error when QEMU cannot be
-/// started, a socket fails, or the time limit is exceeded; std::invalid_argument when the scenario has no firmware
-/// configuration of the same design (firmware_config_of).
+/// The design of `scenario`'s experiments (its config and lengths, no validation phase): what `lashid hil
+/// --scenario` sends. Throws std::invalid_argument as to_run_design, or when the scenario's two step experiments
+/// differ in length (the firmware has one L).
+fw::RunDesign run_design_of(const Scenario& scenario);
+
+/// Runs QEMU with the firmware, sends the design, and plays the scenario's plant (or options.plant_file's),
+/// recording the exchanged samples to options.record if set (also when the run stops early: the recording is then
+/// marked partial). Throws std::runtime_error when QEMU cannot be started, a socket fails, or the time limit is
+/// exceeded; std::invalid_argument when the design cannot be made (run_design_of).
 HilResult run_hil(const HilOptions& options);
 
 /// The firmware's board on the PC with the played plant in-process (a scenario's or a plant file's): the same plant
@@ -86,9 +100,10 @@ HilResult run_hil(const HilOptions& options);
 using ScenarioBoard = hal::HostBoard<AnyPlant>;
 ScenarioBoard make_scenario_board(const Scenario& scenario, std::uint64_t seed);
 
-/// The same firmware (same configuration) on the in-process host board with the same scenario and seed: the
-/// reference the QEMU run must equal within float32 rounding.
-HilResult run_on_host_board(const std::string& scenario, std::uint64_t seed);
+/// The same firmware (same design) on the in-process host board with the same scenario and seed: the reference the
+/// QEMU run must equal within float32 rounding. `design`: as HilOptions::design.
+HilResult run_on_host_board(const std::string& scenario, std::uint64_t seed,
+                            const std::optional<fw::RunDesign>& design = std::nullopt);
 /// The same with the plant and the recording of `options` (plant_file, record); the QEMU fields are not used.
 HilResult run_on_host_board(const HilOptions& options);
 

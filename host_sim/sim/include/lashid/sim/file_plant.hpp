@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 
+#include "lashid/firmware/run_design.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/io/recording.hpp"
@@ -35,13 +36,13 @@ class FilePlant {
   std::uint64_t samples_ = 0;
 };
 
-/// `lashid simulate --plant`: the five phases of a device run of `config` (to_run_design(config, run_lengths(
-/// config))) on the plant, without firmware: step_d (L + 1), dis (N_d), step_a (L + 1), ais (N_a) from the estimator's
-/// excitation, then val from the device's validation generator. One plant, continuous from phase to phase, starting
-/// at v_min. No interval check: it is not part of a recording (docs/data-format.md). Throws DataError naming
-/// `plant_name` when the borders do not cover [v_min, v_max], std::invalid_argument when the device could not run
-/// the design.
+/// `lashid simulate --plant`: the five phases of a device run of `design` (the firmware's form of `config`, e.g.
+/// hil's to_run_design) on the plant, without firmware: step_d (L + 1), dis (N_d), step_a (L + 1), ais (N_a) from the
+/// estimator's excitation with the config's levels, then val (val_length) from the device's validation generator.
+/// One plant, continuous from phase to phase, starting at the config's v_min. No interval check: it is not part of
+/// a recording (docs/data-format.md). Throws DataError naming `plant_name` when the borders do not cover
+/// [v_min, v_max].
 Recording simulate_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
-                              std::uint64_t seed);
+                              const fw::RunDesign& design, std::uint64_t seed);
 
 }  // namespace lashid::sim
