@@ -101,7 +101,7 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
     if (args.firmware.empty() && args.attach.empty()) throw CLI::RequiredError("--firmware or --attach");
   });
   cmd->add_option("--scenario", args.scenario,
-                  "Plant played by the host and the design of its paper image (must match the firmware's config); "
+                  "Plant played by the host and the design sent to the firmware; "
                   "with --plant only the design")
       ->required();
   cmd->add_option("--plant", args.plant, "Play this plant file (JSON, docs/data-format.md) instead of the scenario's")
