@@ -33,7 +33,7 @@ int run_simulate(const SimulateArgs& args) {
   check_can_write(args.data_out);
   if (!args.config_out.empty()) check_can_write(args.config_out);
   if (!args.config_out.empty()) {
-    ExperimentConfig config = scenario.config;
+    ExperimentConfig config = config_with_lengths(scenario);
     if (args.input_lag != 0) config.truth.reset();  // the truth of the nominal plant no longer applies
     write_json_file(args.config_out, to_json(config));
   }
