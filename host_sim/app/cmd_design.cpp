@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -127,17 +128,14 @@ int run_check(const std::string& path) {
   return 0;
 }
 
-// K evenly spaced levels from v_min to v_max (both included). Each level is computed once, so V_d and V_a share
-// their common levels bit for bit; (a (K-1-i) + b i) / (K-1) is exact whenever the level is (e.g. whole numbers).
-std::vector<double> level_grid(double v_min, double v_max, int K) {
-  std::vector<double> grid(static_cast<std::size_t>(K));
+// Level i of K evenly spaced levels from v_min (i = 0) to v_max (i = K - 1). V_d and V_a take their shared levels
+// from this one formula, so they agree bit for bit; (a (K-1-i) + b i) / (K-1) is exact whenever the level is (e.g.
+// whole numbers), and only the 2m levels used are computed, whatever K.
+double grid_level(double v_min, double v_max, int K, int i) {
+  if (i == 0) return v_min;
+  if (i == K - 1) return v_max;
   const double steps = K - 1;
-  for (int i = 0; i < K; ++i) {
-    grid[static_cast<std::size_t>(i)] = (v_min * (steps - i) + v_max * i) / steps;
-  }
-  grid.front() = v_min;
-  grid.back() = v_max;
-  return grid;
+  return (v_min * (steps - i) + v_max * i) / steps;
 }
 
 int run_write(const DesignArgs& a) {
@@ -167,16 +165,20 @@ int run_write(const DesignArgs& a) {
         K, a.m + 1));
   }
   // The document as the reader sees it, so that the reader's rules (and messages, naming the key) judge the options.
-  const std::vector<double> grid = level_grid(a.v_min, a.v_max, K);
-  const auto m = static_cast<std::ptrdiff_t>(a.m);
+  std::vector<double> V_d;
+  std::vector<double> V_a;
+  for (int j = 0; j < a.m; ++j) {
+    V_d.push_back(grid_level(a.v_min, a.v_max, K, j));
+    V_a.push_back(grid_level(a.v_min, a.v_max, K, K - 1 - j));
+  }
   nlohmann::json document = {
       {"n", a.n},
       {"m", a.m},
       {"v_min", a.v_min},
       {"v_max", a.v_max},
       {"operator", a.op},
-      {"V_d", std::vector<double>(grid.begin(), grid.begin() + m)},
-      {"V_a", std::vector<double>(grid.rbegin(), grid.rbegin() + m)},
+      {"V_d", V_d},
+      {"V_a", V_a},
       {"step_length", a.step_length},
       {"pulse_length_d", a.pulse_length.value_or(default_pulse_length(a.n, a.m))},
       {"pulse_length_a", a.pulse_length.value_or(default_pulse_length(a.n, a.m))},
