@@ -12,7 +12,7 @@
 
 #include "cli_harness.hpp"
 #include "lashid/firmware/run_design.hpp"
-#include "lashid/hil/run_design_of.hpp"
+#include "lashid/hil/config_design.hpp"
 #include "lashid/io/config.hpp"
 
 namespace {
@@ -34,7 +34,9 @@ class CliDesign : public LashidExeTest {
   // The written file through the host reader and the firmware's rules, without the program.
   void expect_host_and_firmware_accept(const std::string& name) const {
     const lashid::sim::ExperimentConfig config = lashid::sim::read_config_json(work_ / name);
-    EXPECT_EQ(lashid::fw::check_design(lashid::sim::to_run_design(config, name)), lashid::fw::DesignStatus::kOk);
+    const lashid::fw::RunDesign run =
+        lashid::sim::run_design_as_is(config, lashid::sim::experiment_lengths(config), name);
+    EXPECT_EQ(lashid::fw::check_design(run), lashid::fw::DesignStatus::kOk);
   }
   // A valid config (n = 2, m = 6 of docs/data-format.md, T = 18) with `key` set to `value`.
   std::string config_with(const std::string& key, const json& value) const {

@@ -16,7 +16,7 @@
 #include "commands.hpp"
 #include "lashid/estimator/design.hpp"
 #include "lashid/firmware/run_design.hpp"
-#include "lashid/hil/run_design_of.hpp"
+#include "lashid/hil/config_design.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/data_error.hpp"
 #include "lashid/io/files.hpp"
@@ -62,7 +62,7 @@ Verdict judge(const ExperimentConfig& config, const std::string& source) {
   Verdict v;
   v.host = host_problem(config);
   try {
-    v.run = to_run_design(config, source);
+    v.run = run_design_as_is(config, experiment_lengths(config), source);
   } catch (const DataError& e) {
     v.firmware = without_source(e, source);
     return v;

@@ -1,5 +1,5 @@
 // ExperimentConfig -> fw::RunDesign, and check_design()'s statuses in the words of the config file.
-#include "lashid/hil/run_design_of.hpp"
+#include "lashid/hil/config_design.hpp"
 
 #include <array>
 #include <cmath>
@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 
 #include "lashid/estimator/design.hpp"
+#include "lashid/firmware/sequencer.hpp"
+#include "lashid/hil/hil.hpp"
 #include "lashid/io/data_error.hpp"
 
 namespace lashid::sim {
@@ -50,7 +52,8 @@ int first_unordered(const std::array<float, fw::kMaxPoints>& V, int m, bool incr
 
 }  // namespace
 
-fw::RunDesign to_run_design(const ExperimentConfig& config, std::string_view source_name) {
+fw::RunDesign run_design_as_is(const ExperimentConfig& config, const ExperimentLengths& lengths,
+                               std::string_view source_name) {
   for (const auto& [key, levels] : {std::pair{"V_d", &config.V_d}, std::pair{"V_a", &config.V_a}}) {
     if (levels->empty()) {
       throw DataError(source_name, fmt::format("'{}' is absent: a firmware run executes both schemes (the DIS, then "
@@ -75,12 +78,20 @@ fw::RunDesign to_run_design(const ExperimentConfig& config, std::string_view sou
   d.v_max = to_float(config.v_max, "v_max", source_name);
   copy_levels(config.V_d, "V_d", source_name, d.V_d);
   copy_levels(config.V_a, "V_a", source_name, d.V_a);
-  const ExperimentLengths lengths = experiment_lengths(config);
   d.step_length = to_count(lengths.step_length, "step_length", source_name);
   d.pulse_length_d = to_count(lengths.pulse_length_d, "pulse_length_d", source_name);
   d.pulse_length_a = to_count(lengths.pulse_length_a, "pulse_length_a", source_name);
   d.val_length = to_count(lengths.val_length, "val_length", source_name);
   d.val_seed = lengths.val_seed;
+  return d;
+}
+
+fw::RunDesign to_run_design(const ExperimentConfig& config, std::string_view source_name) {
+  const fw::RunDesign d = run_design_as_is(config, experiment_lengths(config), source_name);
+  if (const fw::DesignStatus status = fw::check_design(d); status != fw::DesignStatus::kOk) {
+    throw DataError(source_name, fmt::format("the firmware image cannot run this design: {} (firmware status: {})",
+                                             design_status_message(status, d), fw::to_string(status)));
+  }
   return d;
 }
 
@@ -92,6 +103,7 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
   switch (status) {
     case S::kOk: return {};
     case S::kMalformed: return "the design message is malformed (wrong length for m, or unknown bytes)";
+    case S::kBusy: return "a run is under way: its design cannot change";
     case S::kUnknownOperator: return "'operator' must be \"switch\" or \"backlash\"";
     case S::kOrderOutOfRange:
       return fmt::format("'n' = {} is outside the firmware image's capacity [1, {}]", d.n, fw::kMaxOrder);
@@ -151,7 +163,10 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
 FirmwareRunSamples firmware_run_samples(const fw::RunDesign& d) {
   const auto period = static_cast<std::uint64_t>(est::schedule::period(d.n, d.m));
   FirmwareRunSamples samples;
-  samples.interval_check = d.checks_interval() ? 16 * period : 0;
+  // The sequencer's square wave: half-period 2T, kIntervalCheckPeriods periods.
+  constexpr auto kPeriods =
+      static_cast<std::uint64_t>(fw::IdentificationSequencer<ScenarioBoard>::kIntervalCheckPeriods);
+  samples.interval_check = d.checks_interval() ? 2 * (2 * period) * kPeriods : 0;
   samples.steps = 2 * (std::uint64_t{d.step_length} + 1);
   samples.pulses = std::uint64_t{d.pulse_length_d} + d.pulse_length_a;
   samples.validation = d.val_length;

@@ -1,12 +1,14 @@
-// A config as the firmware's run-time design (hil's to_run_design): the float32 values and lengths the device gets,
-// what cannot be expressed, check_design()'s verdict in the config's words, and the samples of a whole run. The
+// A config as the firmware's run-time design (hil's config_design.hpp): the float32 values and lengths the device
+// gets, what cannot be expressed, check_design()'s verdict in the config's words, and the samples of a whole run. The
 // expected numbers are worked out by hand in the comments from the paper's rules.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 
 #include "lashid/firmware/run_design.hpp"
-#include "lashid/hil/run_design_of.hpp"
+#include "lashid/hil/config_design.hpp"
+#include "lashid/hil/hil.hpp"
 #include "lashid/io/config.hpp"
 
 #include "data_error_matchers.hpp"
@@ -24,7 +26,12 @@ ExperimentConfig example() {
                            "cfg.json");
 }
 
-TEST(RunDesignOf, CarriesTheConfigAndItsDefaultLengths) {
+// The design as is, before check_design(): the function `lashid design --check` judges.
+fw::RunDesign as_is(const ExperimentConfig& config) {
+  return run_design_as_is(config, experiment_lengths(config), "cfg.json");
+}
+
+TEST(ConfigDesign, CarriesTheConfigAndItsDefaultLengths) {
   const fw::RunDesign d = to_run_design(example(), "cfg.json");
   EXPECT_EQ(d.op, fw::OperatorKind::kBacklash);
   EXPECT_EQ(d.n, 2);
@@ -44,7 +51,7 @@ TEST(RunDesignOf, CarriesTheConfigAndItsDefaultLengths) {
   EXPECT_EQ(design_status_message(fw::DesignStatus::kOk, d), "");
 }
 
-TEST(RunDesignOf, CountsTheSamplesOfAWholeRun) {
+TEST(ConfigDesign, CountsTheSamplesOfAWholeRun) {
   ExperimentConfig config = example();
   // Interval check 16T = 288, steps 2 (2000 + 1) = 4002, pulses 2 * 2016 = 4032, validation 1000.
   const FirmwareRunSamples backlash = firmware_run_samples(to_run_design(config, "cfg.json"));
@@ -60,7 +67,7 @@ TEST(RunDesignOf, CountsTheSamplesOfAWholeRun) {
   EXPECT_EQ(firmware_run_samples(to_run_design(config, "cfg.json")).total(), 2U * 11U + 4032U);
 }
 
-TEST(RunDesignOf, GivenLengthsAndSeedPassThrough) {
+TEST(ConfigDesign, GivenLengthsAndSeedPassThrough) {
   ExperimentConfig config = example();
   config.step_length = 3;
   config.pulse_length_d = 36;
@@ -76,38 +83,38 @@ TEST(RunDesignOf, GivenLengthsAndSeedPassThrough) {
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kOk);
 }
 
-TEST(RunDesignOf, RefusesWhatARunCannotExpress) {
+TEST(ConfigDesign, RefusesWhatARunCannotExpress) {
   ExperimentConfig dis_only = example();
   dis_only.V_a.clear();
-  EXPECT_TRUE(Contains(error_of([&] { to_run_design(dis_only, "cfg.json"); }),
+  EXPECT_TRUE(Contains(error_of([&] { as_is(dis_only); }),
                        "cfg.json: 'V_a' is absent: a firmware run executes both schemes"));
   ExperimentConfig huge = example();
   huge.v_max = 1e300;
   huge.V_a[0] = 1e300;
-  EXPECT_TRUE(Contains(error_of([&] { to_run_design(huge, "cfg.json"); }),
+  EXPECT_TRUE(Contains(error_of([&] { as_is(huge); }),
                        "cfg.json: 'v_max' = 1e+300 is beyond the range of float32"));
   ExperimentConfig wide = example();
   wide.m = 11;
-  EXPECT_EQ(error_of([&] { to_run_design(wide, "cfg.json"); }),
+  EXPECT_EQ(error_of([&] { as_is(wide); }),
             "cfg.json: 'm' = 11 is outside the firmware image's capacity [1, 10]");
 }
 
-TEST(RunDesignOf, OrdersBeyondTheHostFitTheImageUpToItsCapacity) {
+TEST(ConfigDesign, OrdersBeyondTheHostFitTheImageUpToItsCapacity) {
   ExperimentConfig config = example();
   config.n = 4;  // the host estimator stops at 3, the image at 4
   EXPECT_EQ(fw::check_design(to_run_design(config, "cfg.json")), fw::DesignStatus::kOk);
   config.n = 5;
-  const fw::RunDesign d = to_run_design(config, "cfg.json");
+  const fw::RunDesign d = as_is(config);
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kOrderOutOfRange);
   EXPECT_EQ(design_status_message(fw::check_design(d), d), "'n' = 5 is outside the firmware image's capacity [1, 4]");
 }
 
 // Levels a double tells apart but float32 does not: valid for the host, refused by the image.
-TEST(RunDesignOf, LevelsTooCloseInFloat32AreNamedByKey) {
+TEST(ConfigDesign, LevelsTooCloseInFloat32AreNamedByKey) {
   ExperimentConfig config = parse_config_json(R"({"n": 2, "m": 3, "v_min": 0, "v_max": 1, "operator": "switch",
       "V_d": [0, 0.5, 0.5000000001], "V_a": [1, 0.5, 0.25]})",
                                               "cfg.json");
-  fw::RunDesign d = to_run_design(config, "cfg.json");
+  fw::RunDesign d = as_is(config);
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kVdNotIncreasing);
   EXPECT_EQ(design_status_message(fw::DesignStatus::kVdNotIncreasing, d),
             "in float32 'V_d[2]' = 0.5 is not greater than 'V_d[1]' = 0.5 (V_d strictly increasing, (3.1)): the two "
@@ -116,13 +123,13 @@ TEST(RunDesignOf, LevelsTooCloseInFloat32AreNamedByKey) {
   // 1e-9 above v_min = 0 is a distinct float, but within the classifier's resolution of the held level.
   config.V_d = {0, 0.5, 0.75};
   config.V_a = {1, 0.5, 1e-9};
-  d = to_run_design(config, "cfg.json");
+  d = as_is(config);
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kLevelsTooClose);
   EXPECT_TRUE(Contains(design_status_message(fw::DesignStatus::kLevelsTooClose, d),
                        "'V_a': two levels, or a level and the held level v_min, are closer than"));
 }
 
-TEST(RunDesignOf, LengthStatusesNameTheirKeys) {
+TEST(ConfigDesign, LengthStatusesNameTheirKeys) {
   fw::RunDesign d = to_run_design(example(), "cfg.json");
   d.pulse_length_d = 20;
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kPulseDTooShort);
@@ -138,6 +145,27 @@ TEST(RunDesignOf, LengthStatusesNameTheirKeys) {
   d.val_length = 4294967295U;
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kRunTooLong);
   EXPECT_TRUE(Contains(design_status_message(fw::DesignStatus::kRunTooLong, d), "shorten 'step_length'"));
+}
+
+TEST(ConfigDesign, CheckedConversionsRefuseNamingTheKey) {
+  ExperimentConfig config = example();
+  config.pulse_length_a = 20;  // not through the reader, which would refuse it first
+  EXPECT_EQ(error_of([&] { to_run_design(config, "cfg.json"); }),
+            "cfg.json: the firmware image cannot run this design: 'pulse_length_a' = 20 is shorter than two pulse "
+            "periods (2T = 36 for n = 2, m = 6) (firmware status: pulse_length_a shorter than two pulse periods "
+            "(Theorem 3.1))");
+  // hil's form with explicit lengths (a scenario's) goes through the same conversion and words.
+  const RunLengths lengths{.step_length = 2000, .pulse_length_d = 36, .pulse_length_a = 35, .val_length = 0,
+                           .val_seed = 1};
+  try {
+    (void)to_run_design(example(), lengths);
+    ADD_FAILURE() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(Contains(e.what(), "the firmware cannot run this design: 'pulse_length_a' = 35 is shorter"));
+  }
+  ExperimentConfig dis_only = example();
+  dis_only.V_a.clear();
+  EXPECT_THROW((void)to_run_design(dis_only, lengths), std::invalid_argument);
 }
 
 }  // namespace
