@@ -54,7 +54,8 @@ TEST_F(CliPlant, HelpNamesThePlantOptions) {
   for (const char* option : {"--plant", "--record"}) EXPECT_TRUE(Contains(hil.out, option));
 }
 
-// Without length keys the config's design has L = N_d = N_a = 2000 and 2000 val samples (docs/data-format.md).
+// Without length keys the config's design has the documented defaults (docs/data-format.md): L = 2000, N the first
+// whole number of pulse periods T = max(n,2)(m+3) = 10 from 2000 (2000), val 1000.
 TEST_F(CliPlant, SimulateWritesFivePhasesWithTheDesignLengthsAndIdentifyRecoversA) {
   write("plant.json", plant());
   write("cfg.json", config());
@@ -63,7 +64,7 @@ TEST_F(CliPlant, SimulateWritesFivePhasesWithTheDesignLengthsAndIdentifyRecovers
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(Contains(r.err, "plant.json: key 'name' is not a plant-file key; ignored"));
   const std::map<std::string, int> expected{{"step_d", 2001}, {"dis", 2000}, {"step_a", 2001}, {"ais", 2000},
-                                            {"val", 2000}};
+                                            {"val", 1000}};
   EXPECT_EQ(rows_per_phase("rec.csv"), expected);
 
   const Outcome id = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"});
@@ -98,7 +99,7 @@ TEST_F(CliPlant, ABorderGridThatMissesTheIntervalAndADesignTheDeviceRefusesAreEr
   write("dis.json", dis_only);
   const Outcome d = run({"simulate", "--plant", "plant.json", "--config", "dis.json", "--out", "rec.csv"});
   EXPECT_EQ(d.exit_code, 1) << d;
-  EXPECT_TRUE(Contains(d.err, "dis.json: the firmware cannot run this design: it needs both V_d and V_a"));
+  EXPECT_TRUE(Contains(d.err, "dis.json: 'V_a' is absent: a firmware run executes both schemes"));
   EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
 }
 

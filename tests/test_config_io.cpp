@@ -181,7 +181,10 @@ class ConfigFiles : public ::testing::Test {
 };
 
 TEST_F(ConfigFiles, WriteThenReadRoundTripsExactly) {
-  ExperimentConfig config{3, 2, -0.1, 1.0 / 3.0, {-0.1, 0.2}, {1.0 / 3.0, 0.0}, OperatorKind::kSwitch, Truth{}};
+  // n = 3, m = 2: T = 3 (2 + 3) = 15, so 30 is the shortest pulse experiment; L = 4 = n + 1 the shortest step.
+  ExperimentConfig config{3, 2, -0.1, 1.0 / 3.0, {-0.1, 0.2}, {1.0 / 3.0, 0.0}, OperatorKind::kSwitch, Truth{},
+                          /*step_length=*/4, /*pulse_length_d=*/30, /*pulse_length_a=*/31, /*val_length=*/0,
+                          /*val_seed=*/4294967295U};
   config.truth->a = {0.1, -2.0 / 7.0, 1e-17};
   config.truth->F_d = {std::nextafter(1.0, 2.0), -5e-324};
   config.truth->ybar0_d = 26.37;

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
-#include "lashid/hil/hil.hpp"
+#include "lashid/hil/config_design.hpp"
 #include "lashid/io/files.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/report/json.hpp"
@@ -24,32 +24,20 @@ int run_scenarios() {
 
 namespace {
 
-// The phase lengths of a device run of `config`: the one place `simulate --plant` reads them. The config's optional
-// keys step_length, pulse_length_d, pulse_length_a, val_length and val_seed (issue 10, section 2) replace these
-// defaults (those of sim::Scenario) when they land.
-RunLengths run_lengths_of(const ExperimentConfig& /*config*/) {
-  return {.step_length = 2000, .pulse_length_d = 2000, .pulse_length_a = 2000, .val_length = 2000, .val_seed = 1};
-}
-
 // `simulate --plant PLANT --config CFG`: the device's run of the config's design on the plant, without firmware.
 int run_simulate_plant(const SimulateArgs& args) {
   const PlantSpec spec = read_plant_json(args.plant);
   note_ignored_keys(spec, args.plant);
   const ExperimentConfig config = read_config_json(args.config);
-  const RunLengths lengths = run_lengths_of(config);
-  fw::RunDesign design;
-  try {
-    design = to_run_design(config, lengths);
-  } catch (const std::invalid_argument& e) {  // the design: a property of the config file
-    throw DataError(args.config, e.what());
-  }
+  // The design the firmware would run for this config file: its lengths or their documented defaults.
+  const fw::RunDesign design = to_run_design(config, args.config);
   const Recording rec = simulate_file_plant(spec, args.plant, config, design, args.seed);
   const std::vector<std::string> comments{
       fmt::format("lashid simulate --plant {} --config {} --seed {}", args.plant, args.config, args.seed),
       plant_summary(spec),
       fmt::format("L = {}, N_d = {}, N_a = {}; val: {} samples of the firmware's validation excitation, seed {}",
-                  lengths.step_length, lengths.pulse_length_d, lengths.pulse_length_a, lengths.val_length,
-                  lengths.val_seed)};
+                  design.step_length, design.pulse_length_d, design.pulse_length_a, design.val_length,
+                  design.val_seed)};
   write_recording_csv(args.data_out, rec, comments);
   fmt::print("wrote {} ({} samples)\n", args.data_out, rec.size());
   return 0;
@@ -74,7 +62,7 @@ int run_simulate(const SimulateArgs& args) {
   check_can_write(args.data_out);
   if (!args.config_out.empty()) check_can_write(args.config_out);
   if (!args.config_out.empty()) {
-    ExperimentConfig config = scenario.config;
+    ExperimentConfig config = config_with_lengths(scenario);
     if (args.input_lag != 0) config.truth.reset();  // the truth of the nominal plant no longer applies
     write_json_file(args.config_out, to_json(config));
   }

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "lashid/io/config.hpp"
 
 namespace lashid::app {
 
@@ -90,6 +93,22 @@ struct DiagnoseSweepArgs {
 };
 int run_diagnose_sweep(const DiagnoseSweepArgs& args);
 
+struct DesignArgs {
+  std::string check;  // --check CFG.json: judge that file; empty: write a design to `out`
+  int n = 0;
+  int m = 0;
+  double v_min = 0;
+  double v_max = 0;
+  std::string op;                    // "switch" or "backlash"
+  std::optional<int> levels;         // K evenly spaced levels over [v_min, v_max]; nullopt: m + 1
+  // Lengths as 64-bit so that any number typed reaches the config reader, whose error names the key and rule.
+  std::int64_t step_length = sim::kDefaultStepLength;
+  std::optional<std::int64_t> pulse_length;  // N of both pulse experiments; nullopt: sim::default_pulse_length
+  std::int64_t val_length = sim::kDefaultValLength;
+  std::int64_t val_seed = sim::kDefaultValSeed;
+  std::string out;
+};
+int run_design(const DesignArgs& args);
 
 struct OperatorFitArgs {
   std::vector<std::string> train;

@@ -30,6 +30,7 @@ struct Arguments {
   HiddenEffectArgs hidden_effect;
   DiagnoseSweepArgs diagnose_sweep;
   OperatorFitArgs operator_fit;
+  DesignArgs design;
 };
 
 CLI::App* add_simulate(CLI::App& app, SimulateArgs& args) {
@@ -203,6 +204,43 @@ CLI::App* add_operator_fit(CLI::App& app, OperatorFitArgs& args) {
   return cmd;
 }
 
+CLI::App* add_design(CLI::App& app, DesignArgs& args) {
+  auto* cmd = app.add_subcommand(
+      "design",
+      "Write a valid experiment config from n, m, the interval and a level count, or --check a config against the "
+      "rules of the host and of the firmware image (docs/data-format.md)");
+  auto* check = cmd->add_option("--check", args.check,
+                                "Check this config instead: print a summary (T, lengths, samples of a firmware run, "
+                                "whether host and image can run it); exit 1 naming the key and rule when not")
+                    ->check(CLI::ExistingFile);
+  const std::vector<CLI::Option*> design_options = {
+      cmd->add_option("--n", args.n, "Order n of the linear subsystem"),
+      cmd->add_option("--m", args.m, "Points m identified per border (levels of V_d and of V_a)"),
+      cmd->add_option("--v-min", args.v_min, "v_min of the working interval"),
+      cmd->add_option("--v-max", args.v_max, "v_max of the working interval"),
+      cmd->add_option("--operator", args.op, "switch or backlash")->check(CLI::IsMember({"switch", "backlash"})),
+      cmd->add_option("--levels", args.levels,
+                      "K evenly spaced levels from v_min to v_max, both included (K >= m + 1; default m + 1): V_d "
+                      "= the m lowest, V_a = the m highest"),
+      cmd->add_option("--step-length", args.step_length, "L: each step experiment has L + 1 samples (L > n)")
+          ->capture_default_str(),
+      cmd->add_option("--pulse-length", args.pulse_length,
+                      "N of both pulse experiments, >= 2T (default: the first whole number of periods >= 2000)"),
+      cmd->add_option("--val-length", args.val_length, "Samples of the validation phase")->capture_default_str(),
+      cmd->add_option("--val-seed", args.val_seed, "Seed of the validation excitation (unsigned 32-bit)")
+          ->capture_default_str(),
+      cmd->add_option("--out", args.out, "Config to write (JSON)")};
+  for (CLI::Option* option : design_options) check->excludes(option);
+  // Writing needs the design; checking needs only the file.
+  cmd->callback([cmd, &args] {
+    if (!args.check.empty()) return;
+    for (const char* name : {"--n", "--m", "--v-min", "--v-max", "--operator", "--out"}) {
+      if (cmd->count(name) == 0) throw CLI::RequiredError(std::string(name) + " (or --check CONFIG)");
+    }
+  });
+  return cmd;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -222,6 +260,7 @@ int main(int argc, char** argv) {
       {add_hidden_effect(app, a.hidden_effect), [&] { return run_hidden_effect(a.hidden_effect); }},
       {add_diagnose_sweep(app, a.diagnose_sweep), [&] { return run_diagnose_sweep(a.diagnose_sweep); }},
       {add_operator_fit(app, a.operator_fit), [&] { return run_operator_fit(a.operator_fit); }},
+      {add_design(app, a.design), [&] { return run_design(a.design); }},
   };
   try {
     app.parse(argc, argv);

@@ -3,11 +3,14 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 
 #include "lashid/firmware/sequencer.hpp"
+#include "lashid/hil/config_design.hpp"
 #include "lashid/hil/hil.hpp"
+#include "lashid/io/data_error.hpp"
 #include "played_run.hpp"
 #include "reports.hpp"
 
@@ -46,36 +49,18 @@ void collect(const hal::link::Frame& f, HilResult& result) {
 }  // namespace detail
 
 fw::RunDesign to_run_design(const ExperimentConfig& config, const RunLengths& lengths) {
-  const auto refuse = [](const std::string& why) {
-    throw std::invalid_argument("the firmware cannot run this design: " + why);
-  };
-  if (config.V_d.empty() || config.V_a.empty()) {
-    refuse("it needs both V_d and V_a (it runs the DIS and the AIS and cross-checks them, Remark 3b)");
-  }
-  if (config.n < 1 || config.n > fw::kMaxOrder || config.m < 1 || config.m > fw::kMaxPoints) {
-    refuse(fmt::format("n = {}, m = {} is beyond the image's capacity n <= {}, m <= {}", config.n, config.m,
-                       fw::kMaxOrder, fw::kMaxPoints));
-  }
-  if (lengths.step_length < 0 || lengths.pulse_length_d < 0 || lengths.pulse_length_a < 0 ||
-      lengths.val_length < 0) {
-    refuse("a phase length is negative");
-  }
+  // The one conversion (config_design.cpp); its DataError's source is this function's words for a refusal.
+  constexpr std::string_view kRefused = "the firmware cannot run this design";
   fw::RunDesign d;
-  d.op = config.op == OperatorKind::kBacklash ? fw::OperatorKind::kBacklash : fw::OperatorKind::kSwitch;
-  d.n = static_cast<std::uint8_t>(config.n);
-  d.m = static_cast<std::uint8_t>(config.m);
-  d.v_min = static_cast<float>(config.v_min);
-  d.v_max = static_cast<float>(config.v_max);
-  for (std::size_t j = 0; j < static_cast<std::size_t>(config.m); ++j) {
-    d.V_d[j] = static_cast<float>(config.V_d[j]);
-    d.V_a[j] = static_cast<float>(config.V_a[j]);
+  try {
+    d = run_design_as_is(config, lengths, kRefused);
+  } catch (const DataError& e) {
+    throw std::invalid_argument(e.what());
   }
-  d.step_length = static_cast<std::uint32_t>(lengths.step_length);
-  d.pulse_length_d = static_cast<std::uint32_t>(lengths.pulse_length_d);
-  d.pulse_length_a = static_cast<std::uint32_t>(lengths.pulse_length_a);
-  d.val_length = static_cast<std::uint32_t>(lengths.val_length);
-  d.val_seed = lengths.val_seed;
-  if (const fw::DesignStatus s = fw::check_design(d); s != fw::DesignStatus::kOk) refuse(fw::to_string(s));
+  if (const fw::DesignStatus s = fw::check_design(d); s != fw::DesignStatus::kOk) {
+    throw std::invalid_argument(
+        fmt::format("{}: {} (firmware status: {})", kRefused, design_status_message(s, d), fw::to_string(s)));
+  }
   return d;
 }
 

@@ -13,6 +13,21 @@ namespace lashid::sim {
 
 std::string_view to_string(OperatorKind kind) { return kind == OperatorKind::kSwitch ? "switch" : "backlash"; }
 
+int default_pulse_length(int n, int m) {
+  const int period = est::schedule::period(n, m);
+  const int periods = std::max(2, (kDefaultPulseSamples + period - 1) / period);  // ceil, and at least 2T
+  return periods * period;
+}
+
+ExperimentLengths experiment_lengths(const ExperimentConfig& config) {
+  const int pulse_default = default_pulse_length(config.n, config.m);
+  return {.step_length = config.step_length.value_or(kDefaultStepLength),
+          .pulse_length_d = config.pulse_length_d.value_or(pulse_default),
+          .pulse_length_a = config.pulse_length_a.value_or(pulse_default),
+          .val_length = config.val_length.value_or(kDefaultValLength),
+          .val_seed = config.val_seed.value_or(kDefaultValSeed)};
+}
+
 namespace {
 
 // The levels an identification phase may apply: the paper's step (3.4)/(4.1) and pulse (3.1)/(4.2) inputs.

@@ -14,8 +14,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
+#include <utility>
 
 namespace lashid::sim {
 
@@ -23,21 +25,23 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<std::string_view, 8> kConfigKeys = {"n", "m", "v_min", "v_max", "V_d", "V_a", "operator", "truth"};
+constexpr std::array<std::string_view, 13> kConfigKeys = {
+    "n", "m", "v_min", "v_max", "V_d", "V_a", "operator",
+    "step_length", "pulse_length_d", "pulse_length_a", "val_length", "val_seed", "truth"};
 constexpr std::array<std::string_view, 6> kTruthKeys = {"a", "b", "F_d", "F_a", "ybar0_d", "ybar0_a"};
 
 // Turns the JSON document into an ExperimentConfig, naming the offending key in every error.
 class ConfigReader {
  public:
-  explicit ConfigReader(std::string_view source_name) : source_name_(source_name) {}
+  ConfigReader(std::string_view source_name, const ConfigLimits& limits) : source_name_(source_name), limits_(limits) {}
 
   ExperimentConfig read(const json& document) const {
     if (!document.is_object()) fail(fmt::format("the top level must be a JSON object, got {}", document.type_name()));
     reject_unknown_keys(document, kConfigKeys, "");
 
     ExperimentConfig config{};
-    config.n = read_int(document, "n", kMinOrder, kMaxOrder);
-    config.m = read_int(document, "m", kMinPoints, kMaxPoints);
+    config.n = read_int(document, "n", kMinOrder, limits_.max_order);
+    config.m = read_int(document, "m", kMinPoints, limits_.max_points);
     config.v_min = read_finite(required(document, "v_min"), "v_min");
     config.v_max = read_finite(required(document, "v_max"), "v_max");
     if (!(config.v_min < config.v_max)) {
@@ -53,6 +57,7 @@ class ConfigReader {
       config.V_a = read_array(document.at("V_a"), "V_a", m, "m");
       check_ascendent_levels(config);
     }
+    read_lengths(document, config);
     if (document.contains("truth")) config.truth = read_truth(document.at("truth"), config);
     return config;
   }
@@ -83,9 +88,47 @@ class ConfigReader {
             ? static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), std::uint64_t{1} << 32U))
             : value.get<std::int64_t>();
     if (number < min || number > max) {
-      fail(fmt::format("'{}' = {} is outside the compiled range [{}, {}]", key, number, min, max));
+      fail(fmt::format("'{}' = {} is outside {} [{}, {}]", key, number, limits_.range_name, min, max));
     }
     return static_cast<int>(number);
+  }
+
+  // An optional integer key within [min, max]; `rule` says why when it is below min. The message quotes the value
+  // as written, also when it is beyond 64 bits.
+  template <class Int>
+  std::optional<Int> read_optional_integer(const json& object, std::string_view key, std::int64_t min, Int max,
+                                           std::string_view rule) const {
+    const auto found = object.find(key);
+    if (found == object.end()) return std::nullopt;
+    const json& value = *found;
+    if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, value.dump()));
+    const bool too_large = value.is_number_unsigned() ? value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)
+                                                      : value.get<std::int64_t>() > static_cast<std::int64_t>(max);
+    if (too_large) fail(fmt::format("'{}' = {} is too large (at most {})", key, value.dump(), max));
+    // Not too large, so within int64 whether nlohmann stored it signed or unsigned.
+    const auto number = value.get<std::int64_t>();
+    if (number < min) fail(fmt::format("'{}' = {} {}", key, value.dump(), rule));
+    return static_cast<Int>(number);
+  }
+
+  // The optional experiment lengths; the rules are those the firmware's check_design applies at run time.
+  void read_lengths(const json& document, ExperimentConfig& config) const {
+    constexpr int kIntMax = std::numeric_limits<int>::max();
+    config.step_length = read_optional_integer<int>(
+        document, "step_length", std::int64_t{config.n} + 1, kIntMax,
+        fmt::format("must be greater than n = {} (the step experiment's mean (3.7) needs L > n)", config.n));
+    const int period = est::schedule::period(config.n, config.m);
+    for (const auto& [key, field] : {std::pair{"pulse_length_d", &ExperimentConfig::pulse_length_d},
+                                     std::pair{"pulse_length_a", &ExperimentConfig::pulse_length_a}}) {
+      config.*field = read_optional_integer<int>(
+          document, key, 2 * std::int64_t{period}, kIntMax,
+          fmt::format("is shorter than two pulse periods (2T = {} for n = {}, m = {})", 2 * period, config.n,
+                      config.m));
+    }
+    config.val_length = read_optional_integer<int>(document, "val_length", 0, kIntMax, "must not be negative");
+    config.val_seed = read_optional_integer<std::uint32_t>(document, "val_seed", 0,
+                                                           std::numeric_limits<std::uint32_t>::max(),
+                                                           "must not be negative (an unsigned 32-bit seed)");
   }
 
   double read_finite(const json& value, std::string_view key) const {
@@ -179,16 +222,17 @@ class ConfigReader {
   }
 
   std::string_view source_name_;
+  const ConfigLimits& limits_;
 };
 
 }  // namespace
 
-ExperimentConfig parse_config_json(std::string_view text, std::string_view source_name) {
-  return ConfigReader(source_name).read(detail::parse_json_document(text, source_name));
+ExperimentConfig parse_config_json(std::string_view text, std::string_view source_name, const ConfigLimits& limits) {
+  return ConfigReader(source_name, limits).read(detail::parse_json_document(text, source_name));
 }
 
-ExperimentConfig read_config_json(const std::filesystem::path& path) {
-  return parse_config_json(read_file_text(path), path.string());
+ExperimentConfig read_config_json(const std::filesystem::path& path, const ConfigLimits& limits) {
+  return parse_config_json(read_file_text(path), path.string(), limits);
 }
 
 nlohmann::json to_json(const ExperimentConfig& config) {
@@ -199,6 +243,12 @@ nlohmann::json to_json(const ExperimentConfig& config) {
                    {"operator", to_string(config.op)}};
   if (!config.V_d.empty()) document["V_d"] = config.V_d;
   if (!config.V_a.empty()) document["V_a"] = config.V_a;
+  // Only the lengths the config states; absent ones stay absent, so the defaults keep applying when read back.
+  if (config.step_length) document["step_length"] = *config.step_length;
+  if (config.pulse_length_d) document["pulse_length_d"] = *config.pulse_length_d;
+  if (config.pulse_length_a) document["pulse_length_a"] = *config.pulse_length_a;
+  if (config.val_length) document["val_length"] = *config.val_length;
+  if (config.val_seed) document["val_seed"] = *config.val_seed;
   if (config.truth) {
     const Truth& truth = *config.truth;
     json truth_document = json::object();

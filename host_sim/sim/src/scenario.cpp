@@ -122,6 +122,15 @@ const Scenario& find_scenario(std::string_view name) {
   throw std::invalid_argument(fmt::format("unknown scenario '{}' (known: {})", name, known));
 }
 
+ExperimentConfig config_with_lengths(const Scenario& scenario) {
+  ExperimentConfig config = scenario.config;
+  if (scenario.step_length_d == scenario.step_length_a) config.step_length = scenario.step_length_d;
+  config.pulse_length_d = scenario.pulse_length_d;
+  config.pulse_length_a = scenario.pulse_length_a;
+  config.val_length = scenario.validation_length;
+  return config;
+}
+
 std::vector<double> validation_input(double v_min, double v_max, int length, std::uint64_t seed) {
   Draw draw(seed ^ 0x9e3779b97f4a7c15ULL);
   std::vector<double> v;

@@ -14,6 +14,7 @@
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/host_board.hpp"
 #include "lashid/hil/any_plant.hpp"
+#include "lashid/io/config.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::sim {
@@ -70,18 +71,13 @@ struct QemuCommand {
 /// The program followed by its arguments.
 std::vector<std::string> qemu_command_line(const QemuCommand& command);
 
-/// The phase lengths of a firmware run.
-struct RunLengths {
-  int step_length = 0;     ///< L of both step experiments (the firmware uses one L for both)
-  int pulse_length_d = 0;  ///< N of the DP experiment
-  int pulse_length_a = 0;  ///< N of the AP experiment
-  int val_length = 0;      ///< samples of the validation phase
-  std::uint32_t val_seed = 1;
-};
+/// The phase lengths of a firmware run: those of a config (experiment_lengths), one L for both step experiments.
+using RunLengths = ExperimentLengths;
 
-/// The design of a firmware run for `config` (float32, as the firmware holds it) with `lengths`. Throws
-/// std::invalid_argument naming the rule (fw::check_design's DesignStatus) when the firmware would refuse it,
-/// e.g. n or m beyond the image's capacity, or a config without V_d or V_a (the firmware runs both schemes).
+/// The design of a firmware run for `config` (float32, as the firmware holds it) with `lengths`
+/// (run_design_as_is of config_design.hpp, then fw::check_design). Throws std::invalid_argument naming the key and
+/// the rule when the firmware would refuse it, e.g. n or m beyond the image's capacity, or a config without V_d or
+/// V_a (the firmware runs both schemes). For a config file with its own lengths: to_run_design(config, source_name).
 fw::RunDesign to_run_design(const ExperimentConfig& config, const RunLengths& lengths);
 
 /// The design of `scenario`'s experiments (its config and lengths, no validation phase): what `lashid hil

@@ -2,6 +2,7 @@
 // The format is specified in docs/data-format.md.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string_view>
@@ -17,6 +18,13 @@ inline constexpr int kMinOrder = 1;  // n: order of the linear subsystem A(q^-1)
 inline constexpr int kMaxOrder = 3;
 inline constexpr int kMinPoints = 1;  // m: number of border points per scheme (V_d / V_a)
 inline constexpr int kMaxPoints = 8;
+
+// Defaults of the optional experiment lengths (docs/data-format.md), applied by experiment_lengths(). L and the
+// validation length are the paper's example lengths; N is rounded up to whole pulse periods (default_pulse_length).
+inline constexpr int kDefaultStepLength = 2000;
+inline constexpr int kDefaultPulseSamples = 2000;  // the default N is the first whole number of periods >= this
+inline constexpr int kDefaultValLength = 1000;
+inline constexpr std::uint32_t kDefaultValSeed = 1;
 
 enum class OperatorKind { kSwitch, kBacklash };
 /// "switch" or "backlash", as in the config file.
@@ -42,13 +50,49 @@ struct ExperimentConfig {
   std::vector<double> V_a;  // v_max = V_a[0] > ... > V_a[m-1] > v_min; empty when AIS is not used
   OperatorKind op;
   std::optional<Truth> truth;
+  // The experiments a run executes. nullopt: the key is absent from the file, experiment_lengths() supplies the
+  // default. Kept apart from the defaults so that a file is written back with exactly the keys it had.
+  std::optional<int> step_length;            // L: each step experiment (3.4)/(4.1) has L + 1 samples, t = 0..L
+  std::optional<int> pulse_length_d;         // N of the DP experiment (3.1)
+  std::optional<int> pulse_length_a;         // N of the AP experiment (4.2)
+  std::optional<int> val_length;             // samples of the validation phase (0: none)
+  std::optional<std::uint32_t> val_seed;     // seed of the validation excitation
   friend bool operator==(const ExperimentConfig&, const ExperimentConfig&) = default;
 };
 
+// The lengths and seed a run of a config uses, every one resolved.
+struct ExperimentLengths {
+  int step_length;
+  int pulse_length_d;
+  int pulse_length_a;
+  int val_length;
+  std::uint32_t val_seed;
+  friend bool operator==(const ExperimentLengths&, const ExperimentLengths&) = default;
+};
+
+/// The one place the defaults are applied: each key of `config` that is given, otherwise its documented default
+/// (L = 2000, N = default_pulse_length(n, m) for both pulse experiments, 1000 validation samples, seed 1).
+ExperimentLengths experiment_lengths(const ExperimentConfig& config);
+
+/// Default N of a pulse experiment: the smallest whole number of pulse periods T = max(n,2)(m+3)
+/// (est::schedule::period) that is at least 2000 samples and at least two periods; whole periods, so that every
+/// level is pulsed equally often.
+int default_pulse_length(int n, int m);
+
+/// The range of n and m a reader accepts, and the words its error uses for that range. The default is the host
+/// estimator's compiled range; `lashid design --check` widens it to the firmware image's capacity so that it can say
+/// which side refuses a design.
+struct ConfigLimits {
+  int max_order = kMaxOrder;
+  int max_points = kMaxPoints;
+  std::string_view range_name = "the compiled range";
+};
+
 // Reads and validates a config file. Throws DataError naming the file and the offending key.
-ExperimentConfig read_config_json(const std::filesystem::path& path);
+ExperimentConfig read_config_json(const std::filesystem::path& path, const ConfigLimits& limits = {});
 // Same as read_config_json, from text in memory; `source_name` stands for the file name in errors.
-ExperimentConfig parse_config_json(std::string_view text, std::string_view source_name);
+ExperimentConfig parse_config_json(std::string_view text, std::string_view source_name,
+                                   const ConfigLimits& limits = {});
 
 // Checks that `recording` can be used with `config`: the schemes of the recorded phases are
 // configured, identification inputs lie in [v_min, v_max] and take only the configured levels, and

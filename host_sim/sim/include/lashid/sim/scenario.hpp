@@ -86,6 +86,12 @@ Recording simulate_phases(const ExperimentConfig& config, const PhaseLengths& le
 /// are not already scaled (u_M - u_m != 1), b is multiplied and F divided by K = u_M - u_m (footnote 3).
 Truth scenario_truth(const Scenario& scenario);
 
+/// The scenario's config with the lengths simulate() runs, so that a written config says what its recording holds:
+/// step_length (only when both step experiments have the same L, the config has one), pulse_length_d,
+/// pulse_length_a and val_length. val_seed stays absent: simulate() draws its validation input from its own seed
+/// with the simulator's generator (validation_input), not from a val_seed with the device's excitation.
+ExperimentConfig config_with_lengths(const Scenario& scenario);
+
 /// Deterministic validation input: random levels in [v_min, v_max] held for 1..20 samples.
 std::vector<double> validation_input(double v_min, double v_max, int length, std::uint64_t seed);
 
