@@ -1,4 +1,5 @@
 // `lashid hil`: the firmware in QEMU identifies the plant the host plays over the emulated UART.
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -10,10 +11,13 @@
 
 #include "commands.hpp"
 #include "lashid/estimator/status.hpp"
+#include "lashid/hil/config_design.hpp"
 #include "lashid/hil/hil.hpp"
 #include "lashid/hil/verdict.hpp"
+#include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/plant_file.hpp"
+#include "lashid/io/recording.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/sim/scenario.hpp"
 #include "plant_notes.hpp"
@@ -57,11 +61,48 @@ nlohmann::json estimate_json(const fw::EstimateRecord& e) {
   return {{"a", a}, {"b", b}, {"F", F}, {"ybar0", e.ybar0}, {"status", e.status}};
 }
 
+// The float32 identification of the run's own recording, as `lashid identify --float` makes it: one record per
+// scheme the firmware reported.
+std::vector<fw::EstimateRecord> identify_recording(const ExperimentConfig& config, const std::string& path,
+                                                   const std::vector<fw::EstimateRecord>& device) {
+  const Recording rec = read_recording_csv(path);
+  IdentifyOptions f32;
+  f32.precision = Precision::kFloat;
+  std::vector<fw::EstimateRecord> out;
+  for (const fw::EstimateRecord& e : device) {
+    const SchemeResult s = identify_scheme(config, rec, e.scheme, f32, path);
+    fw::EstimateRecord r;
+    r.scheme = e.scheme;
+    r.status = static_cast<std::uint8_t>(s.status);
+    r.n = static_cast<std::uint8_t>(std::min<std::size_t>(s.a.size(), fw::kMaxRecordOrder));
+    r.m = static_cast<std::uint8_t>(std::min<std::size_t>(s.F.size(), fw::kMaxRecordPoints));
+    for (std::size_t i = 0; i < r.n; ++i) {
+      r.a[i] = static_cast<float>(s.a[i]);
+      r.b[i] = static_cast<float>(s.b[i]);
+    }
+    for (std::size_t j = 0; j < r.m; ++j) r.F[j] = static_cast<float>(s.F[j]);
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace
 
 int run_hil_command(const HilArgs& args) {
-  const Scenario& scenario = find_scenario(args.scenario);
+  // The design: the config's (checked on the host unless --unchecked-design), else the scenario's. The plant: the
+  // plant file's, else the scenario's. The config also names the levels printed and identifies the recording.
+  const Scenario* scenario = args.scenario.empty() ? nullptr : &find_scenario(args.scenario);
+  std::optional<ExperimentConfig> config;
+  std::optional<fw::RunDesign> design;
+  if (!args.config.empty()) {
+    config = read_config_json(args.config, ConfigLimits{.max_order = fw::kMaxOrder,
+                                                        .max_points = fw::kMaxPoints,
+                                                        .range_name = "the firmware image's capacity"});
+    design = args.unchecked_design ? run_design_as_is(*config, experiment_lengths(*config), args.config)
+                                   : to_run_design(*config, args.config);
+  }
   HilOptions options;
+  options.design = design;
   options.firmware = args.firmware;
   if (args.attach.size() == 2) {
     options.attach_link = args.attach[0];
@@ -91,11 +132,20 @@ int run_hil_command(const HilArgs& args) {
   JudgeOptions rules;
   rules.attached = !options.attach_link.empty();
   rules.tolerance = args.tolerance;
-  const HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
+  HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
+  // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3).
+  const ExperimentConfig* identified_with = config ? &*config : scenario != nullptr ? &scenario->config : nullptr;
+  if (!args.record.empty() && r.recording_complete && identified_with != nullptr && (verdict.dis || verdict.ais) &&
+      identified_with->n <= kMaxOrder && identified_with->m <= kMaxPoints) {
+    verdict.recording = compare_with_recording(r, verdict, identify_recording(*identified_with, args.record,
+                                                                              r.estimates), args.tolerance);
+    if (!verdict.recording->equal) verdict.failures.push_back(HilFailure::kDifferentFromRecording);
+  }
 
-  fmt::print("== hil: {} on {}, plant {} (seed {}) ==\n",
+  fmt::print("== hil: {} on {}, design {}, plant {} (seed {}) ==\n",
              args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine,
-             args.plant.empty() ? args.scenario : args.plant, args.seed);
+             args.config.empty() ? args.scenario : args.config, args.plant.empty() ? args.scenario : args.plant,
+             args.seed);
   fmt::print("  firmware result: {}; QEMU exit status {}\n", run_status_name(r.done), r.qemu_exit);
   if (r.design_status > 0) {
     fmt::print("  the firmware refused the design: {}\n",
@@ -108,9 +158,9 @@ int run_hil_command(const HilArgs& args) {
     fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
                r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
   }
-  // A plant file's truth is not the scenario's: print the estimates without it.
-  ExperimentConfig shown = scenario.config;
-  if (!args.plant.empty()) shown.truth.reset();
+  // The truth printed is the scenario's only when its plant was played.
+  ExperimentConfig shown = config ? *config : scenario->config;
+  if (!args.plant.empty() || config) shown.truth.reset();
   for (const auto& e : r.estimates) print_estimate(e, shown);
   if (r.cross_check) {
     const auto& c = *r.cross_check;
@@ -149,6 +199,7 @@ int run_hil_command(const HilArgs& args) {
   }
   for (const auto& e : r.estimates) out[e.scheme == est::Scheme::kDescending ? "dis" : "ais"] = estimate_json(e);
   out["done"] = r.done;
+  out["design_status"] = r.design_status;
   out["qemu_exit"] = r.qemu_exit;
 
   if (verdict.host) {
@@ -157,6 +208,13 @@ int run_hil_command(const HilArgs& args) {
                "(tolerance {:.0e}): {}\n",
                h.samples, h.host_samples, h.max_relative_difference, args.tolerance, h.equal ? "equal" : "DIFFERENT");
     out["host_relative_difference"] = h.max_relative_difference;
+  }
+  if (verdict.recording) {
+    fmt::print("  on-device estimates vs `lashid identify --float` on {}: max relative difference {:.2g} "
+               "(tolerance {:.0e}): {}\n",
+               args.record, verdict.recording->max_relative_difference, args.tolerance,
+               verdict.recording->equal ? "equal" : "DIFFERENT");
+    out["recording_relative_difference"] = verdict.recording->max_relative_difference;
   }
   if (verdict.fault_injection) {
     const FaultInjection& f = *verdict.fault_injection;

@@ -57,6 +57,8 @@ struct HilArgs {
   std::string json_out;
   std::string plant;   // a plant file played instead of the scenario's plant
   std::string record;  // the recording of the exchanged samples
+  std::string config;  // the design sent, instead of the scenario's
+  bool unchecked_design = false;  // send the config's design without the host's check (the firmware checks it)
 };
 int run_hil_command(const HilArgs& args);
 

@@ -101,10 +101,22 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   cmd->callback([&] {
     if (args.firmware.empty() && args.attach.empty()) throw CLI::RequiredError("--firmware or --attach");
   });
-  cmd->add_option("--scenario", args.scenario,
-                  "Plant played by the host and the design sent to the firmware; "
-                  "with --plant only the design")
-      ->required();
+  auto* scenario = cmd->add_option("--scenario", args.scenario,
+                                   "Built-in plant played by the host and design sent to the firmware (lashid "
+                                   "scenarios); --config and --plant replace either part");
+  auto* config = cmd->add_option("--config", args.config,
+                                 "Experiment config (JSON) whose design is sent to the firmware (docs/data-format.md: "
+                                 "levels, lengths, validation phase)")
+                     ->check(CLI::ExistingFile);
+  cmd->add_flag("--unchecked-design", args.unchecked_design,
+                "Send the config's design without checking it on the host first: the firmware's own check answers "
+                "(for testing it; a refused design runs nothing)")
+      ->needs(config);
+  cmd->callback([&args] {
+    if (args.config.empty() && args.scenario.empty()) throw CLI::RequiredError("--scenario or --config");
+    if (args.plant.empty() && args.scenario.empty()) throw CLI::RequiredError("--scenario or --plant");
+  });
+  (void)scenario;
   cmd->add_option("--plant", args.plant, "Play this plant file (JSON, docs/data-format.md) instead of the scenario's")
       ->check(CLI::ExistingFile);
   cmd->add_option("--record", args.record,

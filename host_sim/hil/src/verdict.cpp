@@ -51,6 +51,30 @@ HostComparison compare(const HilResult& run, const HilVerdict& v, const HilResul
 
 }  // namespace
 
+RecordingComparison compare_with_recording(const HilResult& run, const HilVerdict& v,
+                                           const std::vector<fw::EstimateRecord>& from_recording, double tolerance) {
+  RecordingComparison c;
+  bool same_schemes = true;
+  for (const est::Scheme scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
+    const std::optional<std::size_t>& k = scheme == est::Scheme::kDescending ? v.dis : v.ais;
+    const fw::EstimateRecord* r = nullptr;
+    for (const fw::EstimateRecord& e : from_recording) {
+      if (e.scheme == scheme) r = &e;
+    }
+    if (!k.has_value() || r == nullptr) {
+      same_schemes = same_schemes && !k.has_value() && r == nullptr;
+      continue;
+    }
+    const std::vector<double> x = flatten(run.estimates[*k]), ref = flatten(*r);
+    const double d = x.size() == ref.size() ? stats::relative_difference(x, ref)
+                                             : std::numeric_limits<double>::infinity();
+    c.max_relative_difference =
+        std::isnan(d) ? std::numeric_limits<double>::infinity() : std::max(c.max_relative_difference, d);
+  }
+  c.equal = same_schemes && c.max_relative_difference <= tolerance;
+  return c;
+}
+
 bool HilVerdict::has(HilFailure f) const { return std::find(failures.begin(), failures.end(), f) != failures.end(); }
 
 HilVerdict judge(const HilResult& run, const HilResult* host, const JudgeOptions& options) {

@@ -21,6 +21,7 @@ enum class HilFailure : std::uint8_t {
   kEstimateEmpty,        ///< an estimate reports n = 0 or m = 0: nothing to compare or print
   kDifferentFromHost,    ///< --compare-host: estimates or sample counts differ from the host board's
   kDamagedFramesMissed,  ///< --corrupt-every: a damaged frame was not detected and re-requested
+  kDifferentFromRecording,  ///< --record: the on-device estimates differ from the float32 identification of the recording
 };
 
 constexpr const char* to_string(HilFailure f) {
@@ -32,6 +33,7 @@ constexpr const char* to_string(HilFailure f) {
     case HilFailure::kEstimateEmpty: return "an estimate is empty (n = 0 or m = 0)";
     case HilFailure::kDifferentFromHost: return "different from the host build";
     case HilFailure::kDamagedFramesMissed: return "damaged frames not all detected";
+    case HilFailure::kDifferentFromRecording: return "the on-device estimates differ from the recording's";
   }
   return "unknown failure";
 }
@@ -51,12 +53,25 @@ struct FaultInjection {
   bool all_detected = false;
 };
 
+/// The on-device estimates against the float32 identification of the run's own recording (`lashid identify
+/// --float` on it): the recording is what the firmware measured, so both must agree to float32 rounding.
+struct RecordingComparison {
+  double max_relative_difference = 0;  ///< over the schemes, ||x_device - x_recording|| / ||x_recording|| (a, b, F)
+  bool equal = false;
+};
+
+/// Compares the estimates of `run` (by scheme, as in `verdict`) with `from_recording` (one record per scheme the
+/// recording was identified for). A scheme on one side only, other orders or a NaN count as different.
+RecordingComparison compare_with_recording(const HilResult& run, const struct HilVerdict& verdict,
+                                           const std::vector<fw::EstimateRecord>& from_recording, double tolerance);
+
 struct HilVerdict {
   std::vector<HilFailure> failures;  ///< empty: the run passed
   /// The estimates by scheme (into HilResult::estimates), when they arrived and are not empty.
   std::optional<std::size_t> dis, ais;
   std::optional<HostComparison> host;
   std::optional<FaultInjection> fault_injection;
+  std::optional<RecordingComparison> recording;
 
   bool ok() const { return failures.empty(); }
   bool has(HilFailure f) const;
