@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# A design the firmware must refuse by its own check (the host's is skipped with --unchecked-design): V_d's last two
+# levels are distinct doubles but the same float32, so (3.1)'s strict order fails on the device. The run must end
+# with the named status and nothing actuated; without --unchecked-design the host refuses it before QEMU starts.
+# Usage: refused_design.sh LASHID FIRMWARE
+set -euo pipefail
+lashid=$1 firmware=$2
+dir=$(mktemp -d)
+trap 'rm -rf "${dir}"' EXIT
+cat >"${dir}/config.json" <<'JSON'
+{"n": 2, "m": 6, "v_min": -3, "v_max": 4, "operator": "backlash",
+ "V_d": [-3, -2, -1, 1, 2, 2.00000001], "V_a": [4, 3, 2, 1, -1, -2]}
+JSON
+if "${lashid}" hil --firmware "${firmware}" --config "${dir}/config.json" --scenario dis_paper --unchecked-design \
+  --timeout 60 >"${dir}/out.txt" 2>&1; then
+  cat "${dir}/out.txt"
+  echo "refused_design: the run passed on a design the firmware must refuse" >&2
+  exit 1
+fi
+cat "${dir}/out.txt"
+grep -q "the firmware refused the design: (3.1): V_d must be strictly increasing" "${dir}/out.txt"
+grep -q "firmware result: design rejected" "${dir}/out.txt"
+grep -q "host: 0 plant samples" "${dir}/out.txt"
+if "${lashid}" hil --firmware "${firmware}" --config "${dir}/config.json" --scenario dis_paper \
+  >"${dir}/host.txt" 2>&1; then
+  echo "refused_design: the host sent a design it must refuse" >&2
+  exit 1
+fi
+cat "${dir}/host.txt"
+grep -q "V_d" "${dir}/host.txt"
