@@ -279,3 +279,47 @@ TEST(ConfigRecordingMatch, RejectsTooShortPhases) {
 
 }  // namespace
 }  // namespace lashid::sim
+
+namespace {
+
+// A float32 device commands float(V_j): for V_j = 1/3 that is 0.3333333432674408, 1.0e-8 away, far beyond the double
+// estimator's own matching (64 double eps ~ 2.8e-14 here) and well within half a float32 ulp (3.0e-8).
+TEST(RecordingLevels, AFloat32DevicesRecordingMatchesAndIsSnappedToTheConfiguredLevels) {
+  const lashid::sim::ExperimentConfig c = lashid::sim::parse_config_json(
+      R"({"n": 1, "m": 3, "v_min": -1, "v_max": 1, "operator": "switch",
+          "V_d": [-1, -0.3333333333333333, 0.3333333333333333]})",
+      "third.json");
+  const double third = 1.0 / 3.0;
+  const double device_third = static_cast<double>(static_cast<float>(third));
+  EXPECT_NEAR(device_third - third, 9.9e-9, 1e-10);  // float(1/3) = 11184811 / 2^25
+  // 64 float eps of max(v_max - v_min, |v_min|, |v_max|) = 64 * 2^-23 * 2.
+  EXPECT_DOUBLE_EQ(lashid::sim::level_tolerance(c), 64.0 * 2.0 / 8388608.0);
+  lashid::sim::Recording rec;
+  rec.append(lashid::sim::Phase::kStepD, -1.0, 0.0);
+  for (int t = 1; t <= 3; ++t) rec.append(lashid::sim::Phase::kStepD, 1.0, 0.5);
+  // Two pulse periods of n = 1, m = 3: T = 2 (3 + 3) = 12, tau = 4, 8, 10.
+  for (int t = 0; t < 24; ++t) {
+    const int phase = t % 12;
+    const double v = phase == 4 ? -1.0 : phase == 8 ? -third : phase == 10 ? device_third : 1.0;
+    rec.append(lashid::sim::Phase::kDis, v, 0.1 * t);
+  }
+  rec.append(lashid::sim::Phase::kVal, device_third, 0.0);
+  EXPECT_NO_THROW(lashid::sim::check_recording_matches(c, rec, "rec.csv"));
+  const lashid::sim::Recording snapped = lashid::sim::snap_to_configured_levels(c, rec);
+  EXPECT_EQ(snapped.phase(lashid::sim::Phase::kDis)[10].v, third);          // the configured level itself
+  EXPECT_EQ(snapped.phase(lashid::sim::Phase::kDis)[8].v, -third);          // already exact: unchanged
+  EXPECT_EQ(snapped.phase(lashid::sim::Phase::kDis)[11].v, 1.0);
+  EXPECT_EQ(snapped.phase(lashid::sim::Phase::kDis)[10].y, 1.0);            // outputs untouched
+  EXPECT_EQ(snapped.phase(lashid::sim::Phase::kVal)[0].v, device_third);    // validation inputs untouched
+  // An input a thousandth off is no level: refused, naming phase and t.
+  lashid::sim::Recording off;
+  for (const lashid::sim::Phase p : rec.order()) {
+    for (std::size_t t = 0; t < rec.phase(p).size(); ++t) {
+      const auto& x = rec.phase(p)[t];
+      off.append(p, p == lashid::sim::Phase::kDis && t == 10 ? third + 1e-3 : x.v, x.y);
+    }
+  }
+  EXPECT_THROW(lashid::sim::check_recording_matches(c, off, "rec.csv"), lashid::sim::DataError);
+}
+
+}  // namespace

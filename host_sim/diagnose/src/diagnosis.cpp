@@ -232,7 +232,8 @@ const CandidateCause* decide(const Diagnosis& d, const DiagnosisOptions& options
 Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, std::string_view data_name,
                    const DiagnosisOptions& options) {
   check_diagnosable(config, recording, data_name);
-  const FlatRecording data = flatten(recording);
+  // A float32 device's recording (lashid hil --record) holds float(V_j): the model is fitted on the levels.
+  const FlatRecording data = flatten(snap_to_configured_levels(config, recording));
   Diagnosis d;
   for (std::size_t t = 0; t < data.size(); ++t) {
     if (data.phase[t] != Phase::kVal) continue;

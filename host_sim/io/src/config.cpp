@@ -54,12 +54,37 @@ std::vector<double> allowed_levels(const ExperimentConfig& config, Phase phase) 
 
 }  // namespace
 
+double level_tolerance(const ExperimentConfig& config) {
+  const double scale = std::max({config.v_max - config.v_min, std::fabs(config.v_min), std::fabs(config.v_max)});
+  return 64.0 * static_cast<double>(std::numeric_limits<float>::epsilon()) * scale;
+}
+
+Recording snap_to_configured_levels(const ExperimentConfig& config, const Recording& recording) {
+  const double tolerance = level_tolerance(config);
+  Recording out;
+  for (const Phase phase : recording.order()) {
+    const std::vector<double> levels = phase == Phase::kVal ? std::vector<double>{} : allowed_levels(config, phase);
+    for (const Sample& x : recording.phase(phase)) {
+      double v = x.v;
+      double best = tolerance;
+      for (const double level : levels) {  // the nearest level within the tolerance, if any
+        if (std::fabs(x.v - level) <= best) {
+          best = std::fabs(x.v - level);
+          v = level;
+        }
+      }
+      out.append(phase, v, x.y);
+    }
+  }
+  return out;
+}
+
 void check_recording_matches(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
   const auto fail = [&](std::string_view message) { throw DataError(data_name, message); };
   const auto n = static_cast<std::size_t>(config.n);
-  // Same matching tolerance as est::LagrangeBasis::classify (64 eps relative to the largest |W_j|, which is
-  // v_max - v_min for both schemes): levels that went through a text conversion still count as on-design.
-  const double tolerance = 64.0 * std::numeric_limits<double>::epsilon() * (config.v_max - config.v_min);
+  // A level matches within level_tolerance(): text conversions and a float32 device's rounding of the levels
+  // (snap_to_configured_levels then hands the estimator the configured levels themselves).
+  const double tolerance = level_tolerance(config);
   const auto matches = [tolerance](double v, double level) { return std::fabs(v - level) <= tolerance; };
   // Two periods of the estimator's schedule (spacing max(n, 2), see est::schedule) are the least that shows every
   // level after a full period.

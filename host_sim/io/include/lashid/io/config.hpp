@@ -99,4 +99,14 @@ ExperimentConfig parse_config_json(std::string_view text, std::string_view sourc
 // step and pulse phases are long enough. Throws DataError naming `data_name`, the phase and t.
 void check_recording_matches(const ExperimentConfig& config, const Recording& recording, std::string_view data_name);
 
+// How far a recorded input of an identification phase may lie from a configured level and still be that level:
+// 64 float32 eps of max(v_max - v_min, |v_min|, |v_max|). A recording made by a float32 device (the firmware through
+// `lashid hil --record`) holds float(V_j), which differs from a level such as 1/3 by up to half a float32 ulp.
+double level_tolerance(const ExperimentConfig& config);
+
+// The recording with every input of an identification phase that lies within level_tolerance() of one of the
+// phase's configured levels replaced by the nearest such level (validation inputs untouched): what the double
+// estimator, whose own matching is to 64 double eps, must be given. Call after check_recording_matches.
+Recording snap_to_configured_levels(const ExperimentConfig& config, const Recording& recording);
+
 }  // namespace lashid::sim
