@@ -1,0 +1,44 @@
+# The installable package (issue 11): `cmake --install <build> --prefix P` puts
+#   P/include/lashid/...                         the headers of the estimator, the HAL, the host board, the firmware
+#   P/lib/cmake/lashid/lashid{Config,ConfigVersion,Targets}.cmake
+#   P/bin/lashid                                  the command-line tool (host builds)
+#   P/share/doc/lashid/                           README, data formats, firmware and package docs, the paper notes
+# so that another project can write find_package(lashid 0.1 CONFIG REQUIRED) and link lashid::estimator (header-only,
+# heap-free, Eigen as its one dependency), lashid::hal, lashid::hal_host or lashid::firmware, on the host or in a
+# Cortex-M build with the same toolchain file. The host layers (lashid::io ... lashid::report) are the tool's
+# internals and are not installed. docs/package.md.
+include(CMakePackageConfigHelpers)
+
+set(LASHID_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/lashid" CACHE STRING
+    "Where the package's CMake files are installed, relative to the prefix")
+
+# Exported as lashid::estimator etc. (the alias names used inside the project).
+foreach(name IN ITEMS estimator hal hal_host firmware)
+  set_target_properties(lashid_${name} PROPERTIES EXPORT_NAME ${name})
+endforeach()
+install(TARGETS lashid_estimator lashid_hal lashid_hal_host lashid_firmware EXPORT lashidTargets)
+install(DIRECTORY
+          "${PROJECT_SOURCE_DIR}/estimator/include/"
+          "${PROJECT_SOURCE_DIR}/hal/include/"
+          "${PROJECT_SOURCE_DIR}/hal/host/include/"
+          "${PROJECT_SOURCE_DIR}/firmware/include/"
+        DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
+        FILES_MATCHING PATTERN "*.hpp")
+install(EXPORT lashidTargets NAMESPACE lashid:: DESTINATION "${LASHID_INSTALL_CMAKEDIR}")
+
+configure_package_config_file("${PROJECT_SOURCE_DIR}/cmake/lashidConfig.cmake.in"
+                              "${PROJECT_BINARY_DIR}/lashidConfig.cmake"
+                              INSTALL_DESTINATION "${LASHID_INSTALL_CMAKEDIR}")
+# 0.x: a new minor version may change the API, so only the same minor version is compatible.
+write_basic_package_version_file("${PROJECT_BINARY_DIR}/lashidConfigVersion.cmake"
+                                 VERSION "${PROJECT_VERSION}" COMPATIBILITY SameMinorVersion ARCH_INDEPENDENT)
+install(FILES "${PROJECT_BINARY_DIR}/lashidConfig.cmake" "${PROJECT_BINARY_DIR}/lashidConfigVersion.cmake"
+        DESTINATION "${LASHID_INSTALL_CMAKEDIR}")
+
+if(TARGET lashid)
+  install(TARGETS lashid RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
+endif()
+install(FILES "${PROJECT_SOURCE_DIR}/README.md" "${PROJECT_SOURCE_DIR}/docs/data-format.md"
+              "${PROJECT_SOURCE_DIR}/docs/firmware.md" "${PROJECT_SOURCE_DIR}/docs/package.md"
+              "${PROJECT_SOURCE_DIR}/docs/estimator.md" "${PROJECT_SOURCE_DIR}/docs/paper-notes.md"
+        DESTINATION "${CMAKE_INSTALL_DOCDIR}")
