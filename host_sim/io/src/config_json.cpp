@@ -31,9 +31,10 @@ constexpr std::array<std::string_view, 13> kConfigKeys = {
 constexpr std::array<std::string_view, 6> kTruthKeys = {"a", "b", "F_d", "F_a", "ybar0_d", "ybar0_a"};
 
 // Turns the JSON document into an ExperimentConfig, naming the offending key in every error.
-class ConfigReader {
+class ConfigReader : detail::JsonFieldReader {
  public:
-  ConfigReader(std::string_view source_name, const ConfigLimits& limits) : source_name_(source_name), limits_(limits) {}
+  ConfigReader(std::string_view source_name, const ConfigLimits& limits)
+      : JsonFieldReader(source_name), limits_(limits) {}
 
   ExperimentConfig read(const json& document) const {
     if (!document.is_object()) fail(fmt::format("the top level must be a JSON object, got {}", document.type_name()));
@@ -63,8 +64,6 @@ class ConfigReader {
   }
 
  private:
-  [[noreturn]] void fail(std::string_view message) const { throw DataError(source_name_, message); }
-
   void reject_unknown_keys(const json& object, std::span<const std::string_view> known, std::string_view prefix) const {
     for (const auto& [key, value] : object.items()) {
       if (std::find(known.begin(), known.end(), key) == known.end()) {
@@ -131,13 +130,6 @@ class ConfigReader {
                                                            "must not be negative (an unsigned 32-bit seed)");
   }
 
-  double read_finite(const json& value, std::string_view key) const {
-    if (!value.is_number()) fail(fmt::format("'{}' must be a number, got {}", key, value.dump()));
-    const auto number = value.get<double>();
-    if (!std::isfinite(number)) fail(fmt::format("'{}' must be a finite number", key));
-    return number;
-  }
-
   std::vector<double> read_array(const json& value, std::string_view key, std::size_t expected_size,
                                  std::string_view size_name) const {
     if (!value.is_array()) {
@@ -147,18 +139,7 @@ class ConfigReader {
     if (value.size() != expected_size) {
       fail(fmt::format("'{}' must have {} = {} entries, got {}", key, size_name, expected_size, value.size()));
     }
-    std::vector<double> numbers;
-    numbers.reserve(expected_size);
-    for (std::size_t i = 0; i < value.size(); ++i) {
-      numbers.push_back(read_finite(value.at(i), fmt::format("{}[{}]", key, i)));
-    }
-    return numbers;
-  }
-
-  OperatorKind read_operator(const json& value) const {
-    if (value == "switch") return OperatorKind::kSwitch;
-    if (value == "backlash") return OperatorKind::kBacklash;
-    fail(fmt::format("'operator' must be \"switch\" or \"backlash\", got {}", value.dump()));
+    return read_numbers(value, key);
   }
 
   // Paper, Section 3.4 step 1: v_m = V_1^d < V_2^d < ... < V_m^d < v_M.
@@ -221,7 +202,6 @@ class ConfigReader {
     return truth;
   }
 
-  std::string_view source_name_;
   const ConfigLimits& limits_;
 };
 

@@ -2,6 +2,7 @@
 #include "json_document.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <string>
 #include <vector>
@@ -80,6 +81,31 @@ json parse_json_document(std::string_view text, std::string_view source_name) {
         tracker.last_key_path.empty() ? std::string() : fmt::format(" (at key '{}')", tracker.last_key_path);
     throw DataError(source_name, fmt::format("invalid JSON: {}{}", without_exception_id(error.what()), where));
   }
+}
+
+void JsonFieldReader::fail(std::string_view message) const { throw DataError(source_name_, message); }
+
+double JsonFieldReader::read_finite(const nlohmann::json& value, std::string_view key) const {
+  if (!value.is_number()) fail(fmt::format("'{}' must be a number, got {}", key, value.dump()));
+  const auto number = value.get<double>();
+  if (!std::isfinite(number)) fail(fmt::format("'{}' must be a finite number", key));
+  return number;
+}
+
+std::vector<double> JsonFieldReader::read_numbers(const nlohmann::json& value, std::string_view key) const {
+  if (!value.is_array()) fail(fmt::format("'{}' must be an array of numbers, got {}", key, value.type_name()));
+  std::vector<double> numbers;
+  numbers.reserve(value.size());
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    numbers.push_back(read_finite(value.at(i), fmt::format("{}[{}]", key, i)));
+  }
+  return numbers;
+}
+
+OperatorKind JsonFieldReader::read_operator(const nlohmann::json& value) const {
+  if (value == "switch") return OperatorKind::kSwitch;
+  if (value == "backlash") return OperatorKind::kBacklash;
+  fail(fmt::format("'operator' must be \"switch\" or \"backlash\", got {}", value.dump()));
 }
 
 }  // namespace lashid::sim::detail

@@ -4,8 +4,11 @@
 #pragma once
 
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "lashid/io/config.hpp"
 
 namespace lashid::sim::detail {
 
@@ -16,5 +19,24 @@ nlohmann::json parse_json_document(std::string_view text, std::string_view sourc
 
 // nlohmann's message without its "[json.exception.parse_error.101] " prefix, which means nothing to a user.
 std::string_view without_exception_id(std::string_view message);
+
+// What the config and plant-file readers share: errors that name the file and the key, and the typed reads of one
+// value. Each reader adds its own keys, rules and idea of a required key (null is absent in a plant file only).
+class JsonFieldReader {
+ public:
+  explicit JsonFieldReader(std::string_view source_name) : source_name_(source_name) {}
+
+ protected:
+  // Throws DataError "FILE: message".
+  [[noreturn]] void fail(std::string_view message) const;
+  // A finite number: "'key' must be a number, got ...", "'key' must be a finite number".
+  double read_finite(const nlohmann::json& value, std::string_view key) const;
+  // An array of finite numbers, each named 'key[i]' in errors.
+  std::vector<double> read_numbers(const nlohmann::json& value, std::string_view key) const;
+  // "switch" or "backlash".
+  OperatorKind read_operator(const nlohmann::json& value) const;
+
+  std::string_view source_name_;
+};
 
 }  // namespace lashid::sim::detail

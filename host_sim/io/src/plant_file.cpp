@@ -43,9 +43,9 @@ bool is_stable(const std::vector<double>& a) {
 }
 
 // Turns the JSON document into a PlantSpec, naming the offending key in every error.
-class PlantReader {
+class PlantReader : detail::JsonFieldReader {
  public:
-  explicit PlantReader(std::string_view source_name) : source_name_(source_name) {}
+  explicit PlantReader(std::string_view source_name) : JsonFieldReader(source_name) {}
 
   PlantSpec read(const json& document) {
     if (!document.is_object()) fail(fmt::format("the top level must be a JSON object, got {}", document.type_name()));
@@ -80,7 +80,6 @@ class PlantReader {
   }
 
  private:
-  [[noreturn]] void fail(std::string_view message) const { throw DataError(source_name_, message); }
 
   // "More keys allowed" (issue 10): a plant file may carry a name, notes, provenance. They are kept as a list so
   // the commands can mention them.
@@ -104,34 +103,12 @@ class PlantReader {
     return found == object.end() || found->is_null() ? nullptr : &*found;
   }
 
-  double read_finite(const json& value, std::string_view key) const {
-    if (!value.is_number()) fail(fmt::format("'{}' must be a number, got {}", key, value.dump()));
-    const auto number = value.get<double>();
-    if (!std::isfinite(number)) fail(fmt::format("'{}' must be a finite number", key));
-    return number;
-  }
-
   double read_non_negative(const json& value, std::string_view key) const {
     const double number = read_finite(value, key);
     if (!(number >= 0.0)) fail(fmt::format("'{}' = {} must not be negative (it is a standard deviation)", key, number));
     return number;
   }
 
-  std::vector<double> read_numbers(const json& value, std::string_view key) const {
-    if (!value.is_array()) fail(fmt::format("'{}' must be an array of numbers, got {}", key, value.type_name()));
-    std::vector<double> numbers;
-    numbers.reserve(value.size());
-    for (std::size_t i = 0; i < value.size(); ++i) {
-      numbers.push_back(read_finite(value.at(i), fmt::format("{}[{}]", key, i)));
-    }
-    return numbers;
-  }
-
-  OperatorKind read_operator(const json& value) const {
-    if (value == "switch") return OperatorKind::kSwitch;
-    if (value == "backlash") return OperatorKind::kBacklash;
-    fail(fmt::format("'operator' must be \"switch\" or \"backlash\", got {}", value.dump()));
-  }
 
   void read_borders(const json& value) {
     if (!value.is_object()) {
@@ -193,7 +170,6 @@ class PlantReader {
     return static_cast<int>(delay);
   }
 
-  std::string_view source_name_;
   PlantSpec spec_;
 };
 
