@@ -41,7 +41,7 @@ fw::RunDesign small_design(fw::OperatorKind op) {
 
 TEST(RunPhases, BacklashRunSkipsTheIntervalCheckThenFollowsTheFivePhases) {
   const fw::RunDesign d = small_design(fw::OperatorKind::kBacklash);
-  EXPECT_EQ(interval_check_samples(d), 288U);
+  EXPECT_EQ(d.interval_check_samples(), 288U);  // 4 periods of 2 x 2T, T = 18
   EXPECT_EQ(recorded_samples(d), 11U + 40U + 11U + 50U + 7U);
   const auto at = [&](std::uint64_t k) { return place_of_sample(d, k); };
   EXPECT_EQ(at(0), (RunSamplePlace{Part::kIntervalCheck, Phase::kStepD, 0}));
@@ -60,19 +60,11 @@ TEST(RunPhases, BacklashRunSkipsTheIntervalCheckThenFollowsTheFivePhases) {
 
 TEST(RunPhases, SwitchRunStartsWithTheDisStep) {
   const fw::RunDesign d = small_design(fw::OperatorKind::kSwitch);
-  EXPECT_EQ(interval_check_samples(d), 0U);
+  EXPECT_EQ(d.interval_check_samples(), 0U);
   EXPECT_EQ(place_of_sample(d, 0), (RunSamplePlace{Part::kPhase, Phase::kStepD, 0}));
   EXPECT_EQ(place_of_sample(d, 11), (RunSamplePlace{Part::kPhase, Phase::kDis, 0}));
   EXPECT_EQ(place_of_sample(d, 118), (RunSamplePlace{Part::kPhase, Phase::kVal, 6}));
   EXPECT_EQ(place_of_sample(d, 119).part, Part::kAfterRun);
-}
-
-// The interval check the host leaves out is the one the sequencer runs.
-TEST(RunPhases, IntervalCheckLengthIsTheSequencers) {
-  // The sequencer's square wave: kIntervalCheckPeriods periods of two half-periods of 2T each.
-  constexpr int kPeriods = fw::IdentificationSequencer<ScenarioBoard>::kIntervalCheckPeriods;
-  const fw::RunDesign d = small_design(fw::OperatorKind::kBacklash);
-  EXPECT_EQ(interval_check_samples(d), static_cast<std::uint64_t>(kPeriods * 2 * 2 * d.period()));
 }
 
 class RecorderTest : public ::testing::Test {

@@ -161,12 +161,8 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
 }
 
 FirmwareRunSamples firmware_run_samples(const fw::RunDesign& d) {
-  const auto period = static_cast<std::uint64_t>(est::schedule::period(d.n, d.m));
   FirmwareRunSamples samples;
-  // The sequencer's square wave: half-period 2T, kIntervalCheckPeriods periods.
-  constexpr auto kPeriods =
-      static_cast<std::uint64_t>(fw::IdentificationSequencer<ScenarioBoard>::kIntervalCheckPeriods);
-  samples.interval_check = d.checks_interval() ? 2 * (2 * period) * kPeriods : 0;
+  samples.interval_check = d.interval_check_samples();
   samples.steps = 2 * (std::uint64_t{d.step_length} + 1);
   samples.pulses = std::uint64_t{d.pulse_length_d} + d.pulse_length_a;
   samples.validation = d.val_length;

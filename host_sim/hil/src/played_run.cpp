@@ -42,7 +42,7 @@ void start_recording(std::optional<RunRecorder>& recorder, const HilOptions& opt
                   design.op == fw::OperatorKind::kBacklash ? "backlash" : "switch", design.n, design.m,
                   design.v_min, design.v_max, design.step_length, design.pulse_length_d, design.pulse_length_a,
                   design.val_length, design.val_seed)};
-  if (const std::uint64_t check = interval_check_samples(design); check > 0) {
+  if (const std::uint64_t check = design.interval_check_samples(); check > 0) {
     comments.push_back(fmt::format("the interval check (the run's first {} samples) is not recorded: the data format "
                                    "has no phase for it",
                                    check));

@@ -11,13 +11,6 @@
 
 namespace lashid::sim {
 
-std::uint64_t interval_check_samples(const fw::RunDesign& design) {
-  // The sequencer's square wave: kIntervalCheckPeriods periods of two half-periods of 2T (sequencer.hpp).
-  using Sequencer = fw::IdentificationSequencer<ScenarioBoard>;
-  constexpr auto kPeriods = static_cast<std::uint64_t>(Sequencer::kIntervalCheckPeriods);
-  return design.checks_interval() ? kPeriods * 2U * 2U * static_cast<std::uint64_t>(design.period()) : 0U;
-}
-
 namespace {
 
 // The recorded phases in run order, with their lengths.
@@ -39,7 +32,7 @@ std::uint64_t recorded_samples(const fw::RunDesign& design) {
 }
 
 RunSamplePlace place_of_sample(const fw::RunDesign& design, std::uint64_t k) {
-  const std::uint64_t check = interval_check_samples(design);
+  const std::uint64_t check = design.interval_check_samples();
   if (k < check) return {RunSamplePlace::Part::kIntervalCheck, Phase::kStepD, k};
   std::uint64_t start = check;
   for (const auto& [phase, length] : phase_blocks(design)) {

@@ -23,6 +23,9 @@ namespace lashid::fw {
 inline constexpr int kMaxOrder = 4;
 inline constexpr int kMaxPoints = 10;
 
+/// Interval check (Section 3.4 step 1, backlash only): a square wave v_M / v_m of half-period 2T for this many periods.
+inline constexpr int kIntervalCheckPeriods = 4;
+
 /// The nonlinearity the actuator is assumed to have: a backlash needs the interval check (Section 3.4 step 1).
 enum class OperatorKind : std::uint8_t { kSwitch = 0, kBacklash = 1 };
 
@@ -93,6 +96,11 @@ struct RunDesign {
   constexpr int period() const { return est::schedule::period(n, m); }
   /// Whether the run starts with the interval check of Section 3.4 step 1 (backlash only).
   constexpr bool checks_interval() const { return op == OperatorKind::kBacklash; }
+  /// Samples of the interval check: kIntervalCheckPeriods periods of two half-periods of 2T, or 0.
+  constexpr std::uint64_t interval_check_samples() const {
+    return checks_interval() ? std::uint64_t{kIntervalCheckPeriods} * 2U * 2U * static_cast<std::uint64_t>(period())
+                             : 0U;
+  }
 
   /// Payload bytes of kDesign for m points: op, n, m (u8); v_min, v_max (f32); five lengths (u32); V_d, V_a.
   static constexpr std::size_t encoded_size(int points) {
@@ -179,9 +187,11 @@ constexpr DesignStatus check_design(const RunDesign& d) {
   const auto two_periods = static_cast<std::uint32_t>(2 * d.period());
   if (d.pulse_length_d < two_periods) return DesignStatus::kPulseDTooShort;
   if (d.pulse_length_a < two_periods) return DesignStatus::kPulseATooShort;
-  // Interval check, two step phases (L + 1 each), two pulse phases and the validation: all in one u32 counter.
-  const std::uint64_t total = 8ULL * static_cast<std::uint64_t>(two_periods) + 2ULL * (d.step_length + 1ULL) +
-                              d.pulse_length_d + d.pulse_length_a + d.val_length;
+  // Interval check, two step phases (L + 1 each), two pulse phases and the validation: all in one u32 counter (the
+  // interval check counted whatever the operator, so that the limit does not depend on it).
+  const std::uint64_t check = std::uint64_t{kIntervalCheckPeriods} * 2U * 2U * static_cast<std::uint64_t>(d.period());
+  const std::uint64_t total =
+      check + 2ULL * (d.step_length + 1ULL) + d.pulse_length_d + d.pulse_length_a + d.val_length;
   if (total > std::numeric_limits<std::uint32_t>::max()) return DesignStatus::kRunTooLong;
   return DesignStatus::kOk;
 }

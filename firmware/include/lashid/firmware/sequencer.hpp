@@ -32,10 +32,9 @@ class IdentificationSequencer {
  public:
   static constexpr int N = kMaxOrder;
   static constexpr int M = kMaxPoints;
-  /// Interval check: a square wave v_M / v_m of half-period 2T, kIntervalCheckPeriods periods. The first period
-  /// and the first half of every half-period are transient and not used: only settled samples count, otherwise
-  /// an oscillating transient inflates the variance and hides the difference.
-  static constexpr int kIntervalCheckPeriods = 4;
+  /// Interval check: a square wave v_M / v_m of half-period 2T, kIntervalCheckPeriods periods (run_design.hpp). The
+  /// first period and the first half of every half-period are transient and not used: only settled samples count,
+  /// otherwise an oscillating transient inflates the variance and hides the difference.
   /// Remark 3b threshold, in standard errors of the difference.
   static constexpr float kCrossCheckSigmas = 4.0f;
   using Identifier = est::SchemeIdentifier<float, N, M>;
@@ -165,7 +164,7 @@ class IdentificationSequencer {
       est::StepMean<float>& half = high ? high_ : low_;
       (void)half.add(static_cast<std::int64_t>(half.count()) + 1, y);
     }
-    if (++t_ < 2 * half_period * kIntervalCheckPeriods) return true;
+    if (++t_ < design_.interval_check_samples()) return true;
     // Fig. 5 / Remark 1b: if the interval is too narrow the output stops following v after a cycle, so the mean
     // output at v_M and at v_m coincide (up to noise). Require a difference beyond 6 standard errors.
     const float spread = std::sqrt(high_.variance() / static_cast<float>(high_.count()) +

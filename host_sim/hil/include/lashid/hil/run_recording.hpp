@@ -18,10 +18,6 @@
 #include "lashid/io/recording.hpp"
 
 namespace lashid::sim {
-
-/// Samples of the interval check: 16 T when the design checks it (the sequencer's square wave of 4 periods of
-/// 2 x 2T), else 0.
-std::uint64_t interval_check_samples(const fw::RunDesign& design);
 /// Samples of the recorded phases: 2 (L + 1) + N_d + N_a + val_length.
 std::uint64_t recorded_samples(const fw::RunDesign& design);
 
