@@ -1,11 +1,11 @@
-# Cortex-M firmware images for the QEMU mps2 boards (cross builds only: presets cm4f-release, cm7-release,
-# cm3-release). See docs/firmware-platform.md.
+# Cortex-M firmware images for the board of the cross build (LASHID_BOARD: mps2 with presets cm4f-release,
+# cm7-release, cm3-release; stm32f4 with stm32f405-release). See docs/firmware-platform.md and docs/porting.md.
 #
 #   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>] [NO_RUN_TEST]
 #                       [STACK_SIZE <bytes>] [MAX_FLASH <bytes>] [MAX_RAM <bytes>])
 #
-# builds <target>.elf against the board library (lashid::hal_mps2) with the linker script of LASHID_QEMU_MACHINE
-# (and a stack of STACK_SIZE bytes instead of the script's 16 KiB), prints a flash/RAM report after each link, and
+# builds <target>.elf against the board library (lashid::hal_${LASHID_BOARD}) with the linker script that library names
+# in its LASHID_LINKER_SCRIPT property (and a stack of STACK_SIZE bytes instead of the script's 16 KiB), prints a flash/RAM report after each link, and
 # registers two tests, three with a budget:
 #   <target>_runs_in_qemu   runs the ELF in qemu-system-arm (CMAKE_CROSSCOMPILING_EMULATOR); passes on exit code 0,
 #                           fails on any other code or after TIMEOUT seconds (default 60: a hang fails); not with
@@ -104,9 +104,17 @@ function(lashid_add_firmware target)
   find_program(LASHID_ARM_SIZE NAMES arm-none-eabi-size REQUIRED)
 
   add_executable(${target} ${arg_SOURCES})
-  target_link_libraries(${target} PRIVATE ${arg_LIBS} lashid::hal_mps2 lashid::warnings)
-  get_target_property(script lashid::hal_mps2 LASHID_LINKER_SCRIPT)
-  get_target_property(script_depends lashid::hal_mps2 LASHID_LINKER_SCRIPT_DEPENDS)
+  # The board library provides the linker script (its MEMORY map + hal/cortex_m's sections) and the files it includes.
+  set(board lashid::hal_${LASHID_BOARD})
+  if(NOT TARGET ${board})
+    message(FATAL_ERROR "lashid_add_firmware(${target}): no board library ${board} (LASHID_BOARD '${LASHID_BOARD}')")
+  endif()
+  target_link_libraries(${target} PRIVATE ${arg_LIBS} ${board} lashid::warnings)
+  get_target_property(script ${board} LASHID_LINKER_SCRIPT)
+  get_target_property(script_depends ${board} LASHID_LINKER_SCRIPT_DEPENDS)
+  if(NOT script)
+    message(FATAL_ERROR "lashid_add_firmware(${target}): ${board} names no LASHID_LINKER_SCRIPT")
+  endif()
   target_link_options(${target} PRIVATE "-T${script}")
   if(arg_STACK_SIZE)
     target_link_options(${target} PRIVATE "-Wl,--defsym=__stack_size=${arg_STACK_SIZE}")

@@ -1,12 +1,14 @@
-// Platform smoke test of the Cortex-M boards (QEMU mps2-an385/an386/an500), run by the test smoke_runs_in_qemu:
-//   - the console: a banner over UART0 (stdout of QEMU) and semihosting (stderr)
+// Platform smoke test of the Cortex-M boards (QEMU mps2-an385/an386/an500, and netduinoplus2 for the STM32F405), run
+// by the test smoke_runs_in_qemu:
+//   - the console: a banner over the link UART (UART0 / USART1: stdout of QEMU) and semihosting (stderr)
 //   - startup: .data copied, .bss zeroed, static constructors run
 //   - the core: CPUID matches the machine the image was linked for
 //   - the FPU: enabled by the reset handler before any float code; FP math in hardware (would fault otherwise)
 //   - Eigen, fixed size, no exceptions, no heap (EIGEN_NO_MALLOC): a 4x4 LDLT solve; the estimator's headers
-//   - SysTick: cycles() against a loop of known instruction count under -icount shift=0 (40 instructions per cycle),
-//     monotonic across wraps, also with interrupts masked
-//   - the sample tick and the byte link of a hal::Board built on Mps2Platform
+//   - SysTick: cycles() against a loop of known instruction count under -icount shift=0 (1 ns per instruction: 40
+//     instructions per 25 MHz cycle on mps2, 125/21 per 168 MHz cycle on the STM32F405), monotonic across wraps,
+//     also with interrupts masked
+//   - the sample tick and the byte link of a hal::Board built on the board's platform half
 //   - the stack high-water mark
 // Exit code 0 when every check passes, 1 otherwise (and the platform's own codes for faults).
 #include <Eigen/Cholesky>
@@ -16,27 +18,42 @@
 
 #include "lashid/estimator/design.hpp"
 #include "lashid/hal/board.hpp"
-#include "lashid/hal/mps2.hpp"
 
-namespace mps2 = lashid::hal::mps2;
+// The board of the build (LASHID_BOARD, a compile definition from firmware/smoke/CMakeLists.txt): its namespace, link
+// UART, platform half, and the instructions per SysTick cycle under -icount shift=0 as a fraction.
+#if defined(LASHID_BOARD_STM32F4)
+#include "lashid/hal/stm32f4.hpp"
+namespace board = lashid::hal::stm32f4;
+using Platform = board::Stm32f4Platform;
+constexpr board::Usart kUart{board::kUsart1};
+constexpr std::uint32_t kPerCycleNum = board::kIcount0InstructionsPerCycleNum;
+constexpr std::uint32_t kPerCycleDen = board::kIcount0InstructionsPerCycleDen;
+#else
+#include "lashid/hal/mps2.hpp"
+namespace board = lashid::hal::mps2;
+using Platform = board::Mps2Platform;
+constexpr board::Mps2Uart kUart{board::kUart0Base};
+constexpr std::uint32_t kPerCycleNum = board::kInstructionsPerCycleIcount0;
+constexpr std::uint32_t kPerCycleDen = 1;
+#endif
+
 using lashid::hal::Status;
 
 namespace {
 
-constexpr mps2::Mps2Uart kUart{mps2::kUart0Base};
 int g_failures = 0;
 
 void out(const char* text) { (void)kUart.write(text); }
 
 void both(const char* text) {
   out(text);
-  mps2::semihosting::write(text);
+  board::semihosting::write(text);
 }
 
 void check(bool ok, const char* what) {
   if (ok) return;
   ++g_failures;
-  mps2::Text<160> t;
+  board::Text<160> t;
   t << "FAIL: " << what << "\n";
   both(t.c_str());
 }
@@ -68,7 +85,7 @@ struct StaticInitProbe {
 StaticInitProbe g_probe;
 
 void check_startup() {
-  mps2::Text<120> t;
+  board::Text<120> t;
   t << "startup: .data " << static_cast<std::uint32_t>(g_seed) << ", .bss " << g_zero << ", static constructor "
     << g_probe.value << "\n";
   out(t.c_str());
@@ -79,24 +96,24 @@ void check_startup() {
 // ---- core and FPU ---------------------------------------------------------------------------------------------------
 
 void check_core() {
-  mps2::Text<160> t;
+  board::Text<160> t;
   t << "cpu: CPUID.PartNo ";
-  t.hex(mps2::cpu_part(), 3) << ", expected for " << mps2::machine_name() << ' ';
-  t.hex(mps2::expected_cpu_part(), 3) << "\n";
+  t.hex(board::cpu_part(), 3) << ", expected for " << board::machine_name() << ' ';
+  t.hex(board::expected_cpu_part(), 3) << "\n";
   out(t.c_str());
-  check(mps2::cpu_part() == mps2::expected_cpu_part(), "CPUID does not match the machine the image was linked for");
+  check(board::cpu_part() == board::expected_cpu_part(), "CPUID does not match the machine the image was linked for");
 }
 
 void check_fpu() {
-  mps2::Text<200> t;
-  if constexpr (mps2::kBuiltWithFpu) {
-    const std::uint32_t mvfr0 = mps2::fp_features();
-    t << "fpu: built for hard float; CPACR CP10/CP11 " << (mps2::fpu_enabled() ? "full access" : "NOT enabled")
+  board::Text<200> t;
+  if constexpr (board::kBuiltWithFpu) {
+    const std::uint32_t mvfr0 = board::fp_features();
+    t << "fpu: built for hard float; CPACR CP10/CP11 " << (board::fpu_enabled() ? "full access" : "NOT enabled")
       << ", MVFR0 ";
     t.hex(mvfr0) << " (single precision " << ((mvfr0 >> 4) & 0xFU) << ", double precision " << ((mvfr0 >> 8) & 0xFU)
                  << ")\n";
     out(t.c_str());
-    check(mps2::fpu_enabled(), "FPU not enabled by the reset handler");
+    check(board::fpu_enabled(), "FPU not enabled by the reset handler");
     check(((mvfr0 >> 4) & 0xFU) == 2U, "no single-precision FPU");
 #if defined(__ARM_FP) && (__ARM_FP & 8)
     check(((mvfr0 >> 8) & 0xFU) == 2U, "built for a double-precision FPU, the CPU has none");
@@ -138,7 +155,7 @@ void check_eigen() {
   const Eigen::LDLT<Matrix4> ldlt(a);
   const Vector4 x = ldlt.solve(b);
   const float error = (x - x_true).cwiseAbs().maxCoeff();
-  mps2::Text<200> t;
+  board::Text<200> t;
   t << "eigen: 4x4 LDLT solve, x = [";
   for (int i = 0; i < 4; ++i) t.fixed(x(i), 5) << (i < 3 ? ", " : "]");
   t << ", max error ";
@@ -158,8 +175,12 @@ void check_eigen() {
 // ---- SysTick -----------------------------------------------------------------------------------------------------------
 
 void check_cycles() {
-  using mps2::SysTickClock;
-  constexpr std::uint32_t kPerCycle = mps2::kInstructionsPerCycleIcount0;  // 40
+  using board::SysTickClock;
+  // Cycles to instructions (rounded), and one cycle's worth of instructions rounded up: the resolution.
+  const auto to_instructions = [](std::uint32_t c) {
+    return static_cast<std::uint32_t>((std::uint64_t{c} * kPerCycleNum + kPerCycleDen / 2U) / kPerCycleDen);
+  };
+  constexpr std::uint32_t kPerCycle = (kPerCycleNum + kPerCycleDen - 1U) / kPerCycleDen;  // 40 (mps2), 6 (stm32f4)
   SysTickClock::start();
 
   // Back-to-back reads: the cost of one cycles() call, below one cycle's resolution.
@@ -172,21 +193,21 @@ void check_cycles() {
   known_loop(kIterations);
   const std::uint32_t t1 = SysTickClock::cycles();
   const std::uint32_t cycles = t1 - t0;
-  const std::uint32_t instructions = cycles * kPerCycle;
+  const std::uint32_t instructions = to_instructions(cycles);
   const auto deviation = static_cast<std::int32_t>(instructions - kExpected);
   // Less the cost of the cycles() call between the two counter reads (0 cycles at -O2, 2 at -O0).
-  const auto corrected = static_cast<std::int32_t>((cycles - (e1 - e0)) * kPerCycle - kExpected);
+  const auto corrected = static_cast<std::int32_t>(to_instructions(cycles - (e1 - e0)) - kExpected);
 
-  mps2::Text<300> t;
+  board::Text<300> t;
   t << "systick: back-to-back cycles() " << (e1 - e0) << " cycles; known loop " << kIterations
     << " x 2 instructions = " << kExpected << " instructions expected; measured " << cycles << " cycles x "
-    << kPerCycle << " = " << instructions << " instructions (" << deviation << ", resolution " << kPerCycle << ")\n";
+    << kPerCycleNum << " / " << kPerCycleDen << " = " << instructions << " instructions (" << deviation << ", resolution " << kPerCycle << ")\n";
   both(t.c_str());
-  // Within the quantisation: one cycle (40 instructions) either way for each of the two reads.
+  // Within the quantisation: one cycle (40 or 6 instructions) either way for each of the two reads.
   check(corrected >= -2 * static_cast<std::int32_t>(kPerCycle) && corrected <= 2 * static_cast<std::int32_t>(kPerCycle),
-        "known loop: cycles x 40 != instructions (is QEMU running with -icount shift=0?)");
+        "known loop: cycles x instructions per cycle != instructions (is QEMU running with -icount shift=0?)");
 
-  // Monotonic across wraps: a short period (1024 cycles) wraps every 40960 instructions.
+  // Monotonic across wraps: a short period (1024 cycles) wraps every 40960 (mps2) or 6095 (stm32f4) instructions.
   SysTickClock::start(1023);
   std::uint32_t previous = SysTickClock::cycles();
   bool monotonic = true;
@@ -249,13 +270,13 @@ class SmokeBoard {
   std::uint32_t cycles() const { return platform_.cycles(); }
 
  private:
-  mps2::Mps2Platform platform_;
+  Platform platform_;
   float v_ = 0.0f;
 };
 static_assert(lashid::hal::Board<SmokeBoard>);
 
 void check_board() {
-  constexpr std::uint32_t kPeriod = 2'500;  // 100 us at 25 MHz
+  constexpr std::uint32_t kPeriod = board::kSystemClockHz / 10'000;  // 100 us: 2,500 cycles at 25 MHz
   constexpr int kSamples = 20;
   SmokeBoard board(kPeriod);
   const std::uint32_t start = board.cycles();
@@ -271,14 +292,14 @@ void check_board() {
   const std::uint32_t elapsed = board.cycles() - start;
   check(board.actuate(11.0f) == Status::kOutOfRange, "actuate out of range");
   // Overrun one period on purpose: the next tick is late, reported, not skipped.
-  known_loop(kPeriod * mps2::kInstructionsPerCycleIcount0);  // 2 periods of instructions
+  known_loop(kPeriod * kPerCycleNum / kPerCycleDen);  // 2 periods of instructions
   const Status overrun = board.wait_for_sample_tick();
   std::uint8_t byte = 0;
   const Status read = board.link_read(byte);
-  const char message[] = "link: bytes over UART0\n";
+  const char message[] = "link: bytes over the link UART\n";
   const Status write = board.link_write(reinterpret_cast<const std::uint8_t*>(message), sizeof message - 1);
 
-  mps2::Text<240> t;
+  board::Text<240> t;
   t << "board: " << static_cast<std::uint32_t>(kSamples) << " sample ticks of " << kPeriod << " cycles in " << elapsed
     << " cycles, " << static_cast<std::uint32_t>(late) << " late; overrun -> " << lashid::hal::to_string(overrun)
     << "; link_read -> " << lashid::hal::to_string(read) << "; sum y = ";
@@ -297,8 +318,8 @@ void check_board() {
 int main() {
   kUart.init();
   {
-    mps2::Text<160> t;
-    t << "lashid smoke " << mps2::core_name() << " on " << mps2::machine_name() << "\n";
+    board::Text<160> t;
+    t << "lashid smoke " << board::core_name() << " on " << board::machine_name() << "\n";
     both(t.c_str());
   }
   check_startup();
@@ -308,9 +329,9 @@ int main() {
   check_cycles();
   check_board();
   {
-    mps2::Text<160> t;
-    t << "stack: high-water " << static_cast<std::uint32_t>(mps2::stack_high_water_bytes()) << " of "
-      << static_cast<std::uint32_t>(mps2::stack_size_bytes()) << " bytes\n";
+    board::Text<160> t;
+    t << "stack: high-water " << static_cast<std::uint32_t>(board::stack_high_water_bytes()) << " of "
+      << static_cast<std::uint32_t>(board::stack_size_bytes()) << " bytes\n";
     out(t.c_str());
     t.clear();
     t << "lashid smoke: " << (g_failures == 0 ? "all checks passed" : "FAILED") << "\n";

@@ -123,7 +123,8 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                   "Write every exchanged sample (v commanded, y answered) as a recording (CSV), flushed while the run "
                   "goes on; a run that stops early keeps what it measured (marked partial)");
   cmd->add_option("--seed", args.seed, "Noise seed of the plant")->check(kNonNegativeSeed)->capture_default_str();
-  cmd->add_option("--machine", args.machine, "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3)")
+  cmd->add_option("--machine", args.machine,
+                  "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3), netduinoplus2 (STM32F405)")
       ->capture_default_str();
   cmd->add_option("--qemu", args.qemu, "QEMU executable")->capture_default_str();
   cmd->add_option("--timeout", args.timeout, "Wall-clock limit in seconds")->check(CLI::PositiveNumber)
@@ -135,7 +136,8 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                     "Also run the same firmware on the in-process host board and require equal estimates");
   cmd->add_option("--tolerance", args.tolerance, "Relative tolerance of --compare-host")->capture_default_str();
   cmd->add_option("--ticks-to-instructions", args.ticks_to_instructions,
-                      "Convert the board's cycle counts to instructions (QEMU -icount shift=0, SysTick at 25 MHz: 40)");
+                      "Convert the board's cycle counts to instructions (QEMU -icount shift=0, SysTick at 25 MHz: 40; "
+                      "at 168 MHz, netduinoplus2: 5.952381)");
   cmd->add_flag("--icount", args.icount,
                     "Run QEMU with -icount shift=0 (deterministic cycle counts; much slower exchanges)");
   cmd->add_option("--json", args.json_out, "Write the results as JSON");

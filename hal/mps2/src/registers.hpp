@@ -1,6 +1,6 @@
-// Memory-mapped registers used by the mps2 board support (private to hal/mps2).
-// Addresses: ARMv7-M Architecture Reference Manual (System Control Space, SysTick, FP extension) and the CMSDK APB UART
-// as QEMU models it (hw/char/cmsdk-apb-uart.c register layout: DATA, STATE, CTRL, INTSTATUS/INTCLEAR, BAUDDIV).
+// The mps2 peripheral registers used by the board support (private to hal/mps2): the CMSDK APB UART as QEMU models
+// it (hw/char/cmsdk-apb-uart.c register layout: DATA, STATE, CTRL, INTSTATUS/INTCLEAR, BAUDDIV). The core's registers
+// (SCB, SysTick, FPU) are hal/cortex_m's.
 #pragma once
 
 #include <cstdint>
@@ -10,27 +10,6 @@ namespace lashid::hal::mps2::detail {
 inline volatile std::uint32_t& reg(std::uintptr_t address) {
   return *reinterpret_cast<volatile std::uint32_t*>(address);
 }
-
-// System Control Block
-inline constexpr std::uintptr_t kCpuid = 0xE000'ED00;  // [15:4] PartNo
-inline constexpr std::uintptr_t kIcsr = 0xE000'ED04;   // [26] PENDSTSET, [8:0] VECTACTIVE
-inline constexpr std::uintptr_t kVtor = 0xE000'ED08;
-inline constexpr std::uintptr_t kCfsr = 0xE000'ED28;   // UsageFault/BusFault/MemManage status
-inline constexpr std::uintptr_t kHfsr = 0xE000'ED2C;
-inline constexpr std::uintptr_t kMmfar = 0xE000'ED34;
-inline constexpr std::uintptr_t kBfar = 0xE000'ED38;
-inline constexpr std::uintptr_t kCpacr = 0xE000'ED88;  // [23:20] CP11, CP10 access
-inline constexpr std::uintptr_t kMvfr0 = 0xE000'EF40;
-inline constexpr std::uint32_t kIcsrPendStSet = 1U << 26;
-inline constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFU << 20;
-
-// SysTick
-inline constexpr std::uintptr_t kSystCsr = 0xE000'E010;  // [0] ENABLE, [1] TICKINT, [2] CLKSOURCE (1 = CPU), [16] COUNTFLAG
-inline constexpr std::uintptr_t kSystRvr = 0xE000'E014;
-inline constexpr std::uintptr_t kSystCvr = 0xE000'E018;
-inline constexpr std::uint32_t kSystEnable = 1U << 0;
-inline constexpr std::uint32_t kSystTickInt = 1U << 1;
-inline constexpr std::uint32_t kSystClkSourceCpu = 1U << 2;
 
 // CMSDK APB UART (offsets)
 inline constexpr std::uintptr_t kUartData = 0x00;

@@ -195,19 +195,55 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
   plant_fd = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
 }
 
-void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, const HilOptions& options,
+// Decodes the link's bytes into `result`; true when a kStatus frame was among them.
+bool feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_t size, const HilOptions& options,
                HilResult& result) {
+  bool status = false;
   for (std::size_t i = 0; i < size; ++i) {
     const auto r = decoder.push(data[i]);
     if (r == link::FrameDecoder::Result::kDropped) ++result.protocol_errors;
     if (r != link::FrameDecoder::Result::kFrame) continue;
     const link::Frame& f = decoder.frame();
     detail::collect(f, result);
+    status = status || f.type == link::MessageType::kStatus;
     if (f.type == link::MessageType::kStatus && options.on_progress) {
       auto reader = f.reader();
       const auto stage = static_cast<fw::Stage>(reader.u8());
       const std::uint32_t samples = reader.u32();
       if (reader.ok()) options.on_progress(stage, samples);
+    }
+  }
+  return status;
+}
+
+// Waits until the firmware listens: sends kQuery every 100 ms until a kStatus answers. A UART may drop what arrives
+// before the firmware has enabled it (QEMU's STM32 USART does, hw/char/stm32f2xx_usart.c: bytes received while
+// CR1.UE or RE is clear are discarded; the mps2 UART holds them back instead), so the design must not be sent before.
+// Returns early when QEMU's console or the link closes (the run's end is then reported by the caller).
+void await_firmware(const HilOptions& options, int link_fd, int out_fd, link::FrameDecoder& decoder,
+                    HilResult& result) {
+  link::PayloadWriter query;
+  query.u8(static_cast<std::uint8_t>(link::Command::kQuery));
+  const auto query_frame = frame(link::MessageType::kCommand, query);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
+  std::uint8_t buffer[4096];
+  for (;;) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw std::runtime_error(fmt::format("hil: the firmware did not answer a query on the link within {} s",
+                                           options.timeout_seconds));
+    }
+    write_all(link_fd, query_frame);
+    pollfd fds[2] = {{link_fd, POLLIN, 0}, {out_fd, POLLIN, 0}};
+    if (::poll(fds, 2, 100) < 0 && errno != EINTR) fail("poll");
+    if ((fds[1].revents & (POLLIN | POLLHUP)) != 0) {
+      const ssize_t n = ::read(out_fd, buffer, sizeof(buffer));
+      if (n <= 0) return;
+      result.console.append(reinterpret_cast<const char*>(buffer), static_cast<std::size_t>(n));
+    }
+    if ((fds[0].revents & (POLLIN | POLLHUP)) != 0) {
+      const ssize_t n = ::read(link_fd, buffer, sizeof(buffer));
+      if (n <= 0) return;
+      if (feed_link(decoder, buffer, static_cast<std::size_t>(n), options, result)) return;
     }
   }
 }
@@ -216,6 +252,8 @@ void feed_link(link::FrameDecoder& decoder, const std::uint8_t* data, std::size_
 // firmware's kDone frame arrives (attached: QEMU belongs to the user).
 void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, const fw::RunDesign& design,
                  pid_t& qemu, int& link_fd, int& plant_fd, int& out_fd, HilResult& result) {
+  link::FrameDecoder link_decoder;
+  await_firmware(options, link_fd, out_fd, link_decoder, result);
   link::PayloadWriter design_payload;
   design.encode(design_payload);
   write_all(link_fd, frame(link::MessageType::kDesign, design_payload));
@@ -224,7 +262,6 @@ void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorde
   write_all(link_fd, frame(link::MessageType::kCommand, start));
 
   PlantPeer peer(std::move(plant), recorder, options.corrupt_every, result);
-  link::FrameDecoder link_decoder;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
   std::uint8_t buffer[4096];
   for (;;) {

@@ -1,7 +1,7 @@
-// Startup and C/C++ runtime policy for the mps2 images: vector table, reset, fault handlers, stack measurement, and
-// the few newlib/libstdc++ hooks a bare-metal image needs.
+// Startup and C/C++ runtime policy for every Cortex-M image of the project (boards mps2 and stm32f4): vector table,
+// reset, fault handlers, stack measurement, and the few newlib/libstdc++ hooks a bare-metal image needs.
 //
-// This object is forced into every image by the linker script (EXTERN(lashid_mps2_vectors)), so every definition
+// This object is forced into every image by the linker script (EXTERN(lashid_cortex_m_vectors)), so every definition
 // below wins over the C library's before the library is searched: abort(), __assert_func(), atexit(), _exit() and
 // __cxa_pure_virtual() end the run through semihosting with a message. There is deliberately NO _sbrk (and the
 // linker script defines no `end` symbol and asserts that no _sbrk got linked): anything that needs the heap
@@ -12,10 +12,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "lashid/hal/mps2.hpp"
+#include "lashid/hal/cortex_m.hpp"
 #include "registers.hpp"
 
-// Linker script symbols (hal/mps2/ld/mps2-common.ld).
+// Linker script symbols (hal/cortex_m/ld/cortex-m-sections.ld).
 extern "C" {
 extern std::uint32_t __stack_limit[];
 extern std::uint32_t __stack_top[];
@@ -38,13 +38,13 @@ void SysTick_Handler();  // systick.cpp
 }
 
 // The application's main(), called through its assembler name: C++ forbids a program to call ::main directly.
-extern "C" int lashid_mps2_application_main() __asm__("main");
+extern "C" int lashid_cortex_m_application_main() __asm__("main");
 
 #define LASHID_STR2(x) #x
 #define LASHID_STR(x) LASHID_STR2(x)
-// The stack paint as an assembler literal; must equal lashid::hal::mps2::kStackPaint.
-#define LASHID_MPS2_STACK_PAINT 0x5AC55AC5
-static_assert(LASHID_MPS2_STACK_PAINT == lashid::hal::mps2::kStackPaint);
+// The stack paint as an assembler literal; must equal lashid::hal::cortex_m::kStackPaint.
+#define LASHID_CORTEX_M_STACK_PAINT 0x5AC55AC5
+static_assert(LASHID_CORTEX_M_STACK_PAINT == lashid::hal::cortex_m::kStackPaint);
 
 // ---- Vector table ------------------------------------------------------------------------------------------------------
 
@@ -52,7 +52,12 @@ namespace {
 
 using Handler = void (*)();
 constexpr std::size_t kSystemExceptions = 16;
-constexpr std::size_t kExternalInterrupts = 32;  // AN385/AN386/AN500 wire their peripherals to IRQ 0..31
+// The board library sets the number of its external interrupt lines (mps2: 32, STM32F405: 82, RM0090 Table 61), so
+// that an unexpected interrupt of any line ends in Default_Handler with its number instead of a jump through garbage.
+#if !defined(LASHID_EXTERNAL_IRQS)
+#error "LASHID_EXTERNAL_IRQS: the board library must define its number of external interrupt lines"
+#endif
+constexpr std::size_t kExternalInterrupts = LASHID_EXTERNAL_IRQS;
 
 struct VectorTable {
   void* initial_sp;
@@ -74,12 +79,12 @@ constexpr VectorTable make_vectors() {
 }  // namespace
 
 extern "C" {
-[[gnu::used, gnu::section(".isr_vector")]] constinit const VectorTable lashid_mps2_vectors = make_vectors();
+[[gnu::used, gnu::section(".isr_vector")]] constinit const VectorTable lashid_cortex_m_vectors = make_vectors();
 }
 
 // ---- Reset -------------------------------------------------------------------------------------------------------------
 
-extern "C" [[noreturn]] void lashid_mps2_start();
+extern "C" [[noreturn]] void lashid_cortex_m_start();
 
 // Naked: runs before anything may use the stack or an FP register, so no compiler-generated code at all.
 extern "C" [[gnu::naked, noreturn]] void Reset_Handler() {
@@ -100,42 +105,42 @@ extern "C" [[gnu::naked, noreturn]] void Reset_Handler() {
       // Paint [__stack_limit, __stack_top) with the pattern, one word at a time (nothing is on the stack yet).
       "ldr r0, =__stack_limit\n\t"
       "ldr r1, =__stack_top\n\t"
-      "ldr r2, =" LASHID_STR(LASHID_MPS2_STACK_PAINT) "\n\t"
+      "ldr r2, =" LASHID_STR(LASHID_CORTEX_M_STACK_PAINT) "\n\t"
       "1:\n\t"
       "cmp r0, r1\n\t"
       "bhs 2f\n\t"
       "str r2, [r0], #4\n\t"
       "b 1b\n\t"
       "2:\n\t"
-      "b lashid_mps2_start\n\t"
+      "b lashid_cortex_m_start\n\t"
       ".ltorg\n\t");
 }
 
-extern "C" [[noreturn]] void lashid_mps2_start() {
-  using namespace lashid::hal::mps2::detail;
-  // .data from its load address in "flash" (ZBT SSRAM1), .bss to zero. Word loops over linker-provided bounds.
+extern "C" [[noreturn]] void lashid_cortex_m_start() {
+  using namespace lashid::hal::cortex_m::detail;
+  // .data from its load address in flash, .bss to zero. Word loops over linker-provided bounds.
   const std::uint32_t* src = __data_load;
   for (std::uint32_t* dst = __data_start; dst < __data_end;) *dst++ = *src++;
   for (std::uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0U;
-  reg(kVtor) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&lashid_mps2_vectors));
+  reg(kVtor) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&lashid_cortex_m_vectors));
   __asm__ volatile("dsb\n\tisb" ::: "memory");
   for (const InitFunction* f = __preinit_array_start; f < __preinit_array_end; ++f) (*f)();
   for (const InitFunction* f = __init_array_start; f < __init_array_end; ++f) (*f)();
-  lashid::hal::mps2::finish(lashid_mps2_application_main());
+  lashid::hal::cortex_m::finish(lashid_cortex_m_application_main());
 }
 
 // ---- Faults and unexpected exceptions ----------------------------------------------------------------------------------
 
 namespace {
 
-void say(const char* text) { lashid::hal::mps2::semihosting::write(text); }
+void say(const char* text) { lashid::hal::cortex_m::semihosting::write(text); }
 
 }  // namespace
 
 // Called by HardFault_Handler with the exception frame (r0-r3, r12, lr, pc, xPSR) of the faulting context.
-extern "C" [[noreturn, gnu::used]] void lashid_mps2_hard_fault(const std::uint32_t* frame) {
-  using namespace lashid::hal::mps2;
-  using namespace lashid::hal::mps2::detail;
+extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::uint32_t* frame) {
+  using namespace lashid::hal::cortex_m;
+  using namespace lashid::hal::cortex_m::detail;
   Text<200> t;
   t << "\nlashid: HardFault pc=";
   t.hex(frame[6]) << " lr=";
@@ -155,16 +160,16 @@ extern "C" [[gnu::naked]] void HardFault_Handler() {
       "ite eq\n\t"
       "mrseq r0, msp\n\t"
       "mrsne r0, psp\n\t"
-      "b lashid_mps2_hard_fault\n\t");
+      "b lashid_cortex_m_hard_fault\n\t");
 }
 
 extern "C" void NMI_Handler() {
   say("\nlashid: unexpected NMI\n");
-  lashid::hal::mps2::semihosting::exit(lashid::hal::mps2::kExitUnexpectedIrq);
+  lashid::hal::cortex_m::semihosting::exit(lashid::hal::cortex_m::kExitUnexpectedIrq);
 }
 
 extern "C" void Default_Handler() {
-  using namespace lashid::hal::mps2;
+  using namespace lashid::hal::cortex_m;
   Text<64> t;
   t << "\nlashid: unexpected exception " << (detail::reg(detail::kIcsr) & 0x1FFU) << "\n";
   say(t.c_str());
@@ -177,12 +182,12 @@ extern "C" {
 
 [[noreturn]] void abort() {
   say("\nlashid: abort()\n");
-  lashid::hal::mps2::semihosting::exit(lashid::hal::mps2::kExitAbort);
+  lashid::hal::cortex_m::semihosting::exit(lashid::hal::cortex_m::kExitAbort);
 }
 
 // newlib's assert() target (used when NDEBUG is not defined, e.g. eigen_assert in a Debug build).
 [[noreturn]] void __assert_func(const char* file, int line, const char* function, const char* expression) {
-  using namespace lashid::hal::mps2;
+  using namespace lashid::hal::cortex_m;
   Text<256> t;
   t << "\nlashid: assertion failed: " << (expression != nullptr ? expression : "?") << " in "
     << (function != nullptr ? function : "?") << " at " << (file != nullptr ? file : "?") << ':'
@@ -196,20 +201,18 @@ extern "C" {
 int atexit(void (*)()) { return 0; }
 
 // std::exit() / exit() end here after newlib's exit processing.
-[[noreturn]] void _exit(int code) { lashid::hal::mps2::semihosting::exit(code); }
+[[noreturn]] void _exit(int code) { lashid::hal::cortex_m::semihosting::exit(code); }
 
 [[noreturn]] void __cxa_pure_virtual() {
   say("\nlashid: pure virtual call\n");
-  lashid::hal::mps2::semihosting::exit(lashid::hal::mps2::kExitAbort);
+  lashid::hal::cortex_m::semihosting::exit(lashid::hal::cortex_m::kExitAbort);
 }
 
 }  // extern "C"
 
 // ---- Platform queries, stack, finish -----------------------------------------------------------------------------------
 
-namespace lashid::hal::mps2 {
-
-const char* machine_name() { return LASHID_QEMU_MACHINE_NAME; }
+namespace lashid::hal::cortex_m {
 
 const char* core_name() {
 #if defined(__ARM_ARCH_7EM__) && defined(__ARM_FP) && (__ARM_FP & 8)
@@ -224,8 +227,6 @@ const char* core_name() {
   return "unknown core";
 #endif
 }
-
-std::uint32_t expected_cpu_part() { return LASHID_EXPECTED_CPU_PART; }
 
 std::uint32_t cpu_part() { return (detail::reg(detail::kCpuid) >> 4) & 0xFFFU; }
 
@@ -266,4 +267,4 @@ void finish(int code) {
   semihosting::exit(code);
 }
 
-}  // namespace lashid::hal::mps2
+}  // namespace lashid::hal::cortex_m

@@ -1,21 +1,23 @@
 // SysTick as a 32-bit monotonic cycle counter, and the sample timer on top of it.
 //
-// The 24-bit counter counts down from RELOAD to 0 on the processor clock (CLKSOURCE = 1: 25 MHz on mps2); reaching 0
+// The 24-bit counter counts down from RELOAD to 0 on the processor clock (CLKSOURCE = 1: 25 MHz on mps2, 168 MHz on
+// QEMU's netduinoplus2; the external reference clock is board-specific, HCLK/8 on the STM32F4 and 1 MHz on mps2, so
+// the processor clock is the one source every board has); reaching 0
 // pends the SysTick exception and the next cycle reloads. The handler counts these "zero events" in g_wraps, so
 // cycles = wraps * (RELOAD + 1) + (cycles since the last zero event), where a counter value c means
 // (c == 0 ? 0 : RELOAD + 1 - c) cycles since that event. Arithmetic is modulo 2^32, so differences of cycles() are
 // valid across the 32-bit wrap whatever RELOAD is.
-#include "lashid/hal/mps2.hpp"
+#include "lashid/hal/cortex_m.hpp"
 #include "registers.hpp"
 
 namespace {
 volatile std::uint32_t g_wraps = 0;
-std::uint32_t g_period = lashid::hal::mps2::SysTickClock::kMaxReload + 1U;
+std::uint32_t g_period = lashid::hal::cortex_m::SysTickClock::kMaxReload + 1U;
 }  // namespace
 
 extern "C" void SysTick_Handler() { g_wraps = g_wraps + 1U; }
 
-namespace lashid::hal::mps2 {
+namespace lashid::hal::cortex_m {
 
 void SysTickClock::start(std::uint32_t reload) {
   using namespace detail;
@@ -74,10 +76,4 @@ Status SampleTimer::wait() {
   return Status::kOk;
 }
 
-void Mps2Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
-  uart_.init(baud);
-  SysTickClock::start();
-  timer_.start(sample_period_cycles);
-}
-
-}  // namespace lashid::hal::mps2
+}  // namespace lashid::hal::cortex_m

@@ -1,9 +1,9 @@
 // Minimal ARM semihosting (v2.0): console output and exit. No newlib rdimon: that library brings file I/O and
 // malloc. Operation numbers and the AArch32 calling convention (operation in r0, argument in r1, result in r0,
 // trap `bkpt 0xAB` on M-profile) are from Arm's "Semihosting for AArch32 and AArch64" specification.
-#include "lashid/hal/mps2.hpp"
+#include "lashid/hal/cortex_m.hpp"
 
-namespace lashid::hal::mps2::semihosting {
+namespace lashid::hal::cortex_m::semihosting {
 
 namespace {
 constexpr std::uint32_t kSysWritec = 0x03;
@@ -47,4 +47,4 @@ void exit(int code) {
   }
 }
 
-}  // namespace lashid::hal::mps2::semihosting
+}  // namespace lashid::hal::cortex_m::semihosting

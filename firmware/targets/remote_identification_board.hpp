@@ -1,0 +1,74 @@
+// The hal::Board of the identification image on any Cortex-M board of the project: the board's platform half (the link
+// UART, SysTick, the sample tick) plus the actuator/sensor as hal::RemotePlantPort over a second UART, which `lashid
+// hil` plays (the actuator with backlash and the plant). One exchange per sample. The per-board images
+// (mps2_identify.cpp, stm32f4_identify.cpp) only name their platform, their plant UART and their clock.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "lashid/hal/board.hpp"
+#include "lashid/hal/cortex_m.hpp"
+#include "lashid/hal/remote_plant_port.hpp"
+
+namespace lashid::fw::targets {
+
+/// A UART of the board as the byte channel of the remote plant port.
+template <typename Uart>
+class UartChannel {
+ public:
+  template <typename Port>
+  explicit constexpr UartChannel(const Port& port) : uart_(port) {}
+  void init() const { uart_.init(); }
+  hal::Status write(const std::uint8_t* data, std::size_t size) { return uart_.write(data, size); }
+  hal::Status read(std::uint8_t& byte) { return uart_.read(byte); }
+  std::uint32_t cycles() const { return hal::cortex_m::SysTickClock::cycles(); }
+
+ private:
+  Uart uart_;
+};
+
+/// Platform: init(period), link_write/link_read, wait_for_sample_tick, cycles. Uart: the plant port's UART type,
+/// constructed from `plant_port`. SystemClockHz: SysTick's processor clock.
+template <typename Platform, typename Uart, std::uint32_t SystemClockHz>
+class RemoteIdentificationBoard {
+ public:
+  /// A lost answer is requested again after 1 s of virtual time; a damaged one at once.
+  static constexpr std::uint32_t kExchangeTimeoutCycles = SystemClockHz;
+  static constexpr int kExchangeRetries = 3;
+  /// Sample period: 1 ms. In QEMU the exchange with the host takes longer in virtual time, so ticks are late
+  /// (kTimeout, counted, harmless): the sample rate is set by the host-in-the-loop, not by the clock.
+  static constexpr std::uint32_t kSamplePeriodCycles = SystemClockHz / 1000;
+
+  template <typename Port>
+  explicit constexpr RemoteIdentificationBoard(const Port& plant_port) : plant_channel_(plant_port) {}
+
+  void init() {
+    platform_.init(kSamplePeriodCycles);
+    plant_channel_.init();
+  }
+
+  /// The sequencer commands only the accepted design's levels; a non-finite command never reaches the actuator.
+  hal::Status actuate(float v) {
+    if (!std::isfinite(v)) return hal::Status::kOutOfRange;
+    return port_.actuate(v);
+  }
+  hal::Status measure(float& y) { return port_.measure(y); }
+  hal::Status wait_for_sample_tick() { return platform_.wait_for_sample_tick(); }
+  hal::Status link_write(const std::uint8_t* data, std::size_t size) { return platform_.link_write(data, size); }
+  hal::Status link_read(std::uint8_t& byte) { return platform_.link_read(byte); }
+  std::uint32_t cycles() const { return platform_.cycles(); }
+
+  // Optional extensions the sequencer reports when present.
+  std::size_t stack_high_water_bytes() const { return hal::cortex_m::stack_high_water_bytes(); }
+  std::uint32_t exchange_errors() const { return port_.errors(); }
+  std::uint32_t exchange_retries() const { return port_.retries(); }
+
+ private:
+  Platform platform_{};
+  UartChannel<Uart> plant_channel_;
+  hal::RemotePlantPort<UartChannel<Uart>> port_{plant_channel_, kExchangeTimeoutCycles, kExchangeRetries};
+};
+
+}  // namespace lashid::fw::targets

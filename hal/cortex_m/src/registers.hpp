@@ -1,0 +1,35 @@
+// The core's memory-mapped registers used by the Cortex-M support (private to hal/cortex_m).
+// Addresses: ARMv7-M Architecture Reference Manual (System Control Space, SysTick, FP extension); the same on every
+// Cortex-M3/M4/M7, whatever the vendor.
+#pragma once
+
+#include <cstdint>
+
+namespace lashid::hal::cortex_m::detail {
+
+inline volatile std::uint32_t& reg(std::uintptr_t address) {
+  return *reinterpret_cast<volatile std::uint32_t*>(address);
+}
+
+// System Control Block
+inline constexpr std::uintptr_t kCpuid = 0xE000'ED00;  // [15:4] PartNo
+inline constexpr std::uintptr_t kIcsr = 0xE000'ED04;   // [26] PENDSTSET, [8:0] VECTACTIVE
+inline constexpr std::uintptr_t kVtor = 0xE000'ED08;
+inline constexpr std::uintptr_t kCfsr = 0xE000'ED28;   // UsageFault/BusFault/MemManage status
+inline constexpr std::uintptr_t kHfsr = 0xE000'ED2C;
+inline constexpr std::uintptr_t kMmfar = 0xE000'ED34;
+inline constexpr std::uintptr_t kBfar = 0xE000'ED38;
+inline constexpr std::uintptr_t kCpacr = 0xE000'ED88;  // [23:20] CP11, CP10 access
+inline constexpr std::uintptr_t kMvfr0 = 0xE000'EF40;
+inline constexpr std::uint32_t kIcsrPendStSet = 1U << 26;
+inline constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFU << 20;
+
+// SysTick
+inline constexpr std::uintptr_t kSystCsr = 0xE000'E010;  // [0] ENABLE, [1] TICKINT, [2] CLKSOURCE (1 = CPU), [16] COUNTFLAG
+inline constexpr std::uintptr_t kSystRvr = 0xE000'E014;
+inline constexpr std::uintptr_t kSystCvr = 0xE000'E018;
+inline constexpr std::uint32_t kSystEnable = 1U << 0;
+inline constexpr std::uint32_t kSystTickInt = 1U << 1;
+inline constexpr std::uint32_t kSystClkSourceCpu = 1U << 2;
+
+}  // namespace lashid::hal::cortex_m::detail

@@ -1,0 +1,20 @@
+// The mps2 facts the shared Cortex-M support asks of its board (lashid/hal/cortex_m.hpp), and the platform's init.
+#include "lashid/hal/mps2.hpp"
+
+namespace lashid::hal::cortex_m {
+
+const char* machine_name() { return LASHID_QEMU_MACHINE_NAME; }
+
+std::uint32_t expected_cpu_part() { return LASHID_EXPECTED_CPU_PART; }
+
+}  // namespace lashid::hal::cortex_m
+
+namespace lashid::hal::mps2 {
+
+void Mps2Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
+  uart_.init(baud);
+  SysTickClock::start();
+  timer_.start(sample_period_cycles);
+}
+
+}  // namespace lashid::hal::mps2

@@ -1,0 +1,22 @@
+// The STM32F405 facts the shared Cortex-M support asks of its board (lashid/hal/cortex_m.hpp), and the platform's
+// init.
+#include "lashid/hal/stm32f4.hpp"
+
+namespace lashid::hal::cortex_m {
+
+const char* machine_name() { return LASHID_QEMU_MACHINE_NAME; }
+
+/// The STM32F405's core is a Cortex-M4 r0p1 (RM0090 38.6.1 / Cortex-M4 TRM: CPUID 0x410FC241, PartNo 0xC24).
+std::uint32_t expected_cpu_part() { return 0xC24U; }
+
+}  // namespace lashid::hal::cortex_m
+
+namespace lashid::hal::stm32f4 {
+
+void Stm32f4Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
+  usart_.init(baud);
+  SysTickClock::start();
+  timer_.start(sample_period_cycles);
+}
+
+}  // namespace lashid::hal::stm32f4
