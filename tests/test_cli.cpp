@@ -332,3 +332,43 @@ TEST_F(CliBadInput, DiagnoseNamesTheMissingPhaseAndWritesNothing) {
   EXPECT_NE(r.err.find("noval.csv: diagnose needs all five phases; 'val' is missing"), std::string::npos) << r;
   EXPECT_EQ(files_below(work_), before);
 }
+
+namespace {
+
+// Issue 14, "no lost data": no command writes over one of its own files, whatever the path looks like.
+TEST_F(Cli, NoCommandWritesOverItsOwnInputOrAnotherOutput) {
+  ASSERT_EQ(run({"simulate", "--scenario", "dis_paper", "--out", "rec.csv", "--config-out", "cfg.json"}).exit_code, 0);
+  const std::string recording = slurp(work_ / "rec.csv");
+  const std::string config = slurp(work_ / "cfg.json");
+  fs::create_directories(work_ / "sub");
+  fs::create_symlink(work_ / "rec.csv", work_ / "link.csv");
+  fs::create_hard_link(work_ / "cfg.json", work_ / "hard.json");
+  struct Case {
+    std::vector<std::string> args;
+    std::string output, other;  // the two options the message must name
+  };
+  const std::vector<Case> cases = {
+      {{"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "rec.csv"}, "--json", "--data"},
+      {{"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "sub/../rec.csv"}, "--json", "--data"},
+      {{"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "link.csv"}, "--json", "--data"},
+      {{"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "hard.json"}, "--json", "--config"},
+      {{"diagnose", "--config", "cfg.json", "--data", "rec.csv", "--plot", "./cfg.json"}, "--plot", "--config"},
+      {{"simulate", "--scenario", "ais_paper", "--out", "new.csv", "--config-out", "new.csv"}, "--out",
+       "--config-out"},
+  };
+  for (const Case& c : cases) {
+    const Outcome r = run(c.args);
+    EXPECT_EQ(r.exit_code, 1) << r;
+    EXPECT_TRUE(Contains(r.err, "refusing to write over it")) << r;
+    EXPECT_TRUE(Contains(r.err, c.output + " ")) << r;
+    EXPECT_TRUE(Contains(r.err, c.other + " ")) << r;
+  }
+  // The inputs are untouched, and the refused simulate wrote nothing.
+  EXPECT_EQ(slurp(work_ / "rec.csv"), recording);
+  EXPECT_EQ(slurp(work_ / "cfg.json"), config);
+  EXPECT_FALSE(fs::exists(work_ / "new.csv"));
+  // A different file is fine.
+  EXPECT_EQ(run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"}).exit_code, 0);
+}
+
+}  // namespace

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "output_paths.hpp"
 
 using namespace lashid::app;
 
@@ -283,7 +284,9 @@ int main(int argc, char** argv) {
   }
   try {
     for (const auto& [subcommand, run] : commands) {
-      if (*subcommand) return run();
+      if (!*subcommand) continue;
+      refuse_overwriting_own_files(*subcommand);
+      return run();
     }
   } catch (const std::exception& e) {
     std::fflush(stdout);
