@@ -19,33 +19,46 @@ std::vector<double> flatten(const fw::EstimateRecord& e) {
   return x;
 }
 
-// The first estimate of `scheme` in `r`, if any.
-const fw::EstimateRecord* find_estimate(const HilResult& r, est::Scheme scheme) {
-  const auto it = std::find_if(r.estimates.begin(), r.estimates.end(),
+// The first estimate of `scheme` in `estimates`, if any.
+const fw::EstimateRecord* find_estimate(const std::vector<fw::EstimateRecord>& estimates, est::Scheme scheme) {
+  const auto it = std::find_if(estimates.begin(), estimates.end(),
                                [&](const fw::EstimateRecord& e) { return e.scheme == scheme; });
-  return it == r.estimates.end() ? nullptr : &*it;
+  return it == estimates.end() ? nullptr : &*it;
+}
+
+// The run's usable estimates (by scheme, as in `v`) against `reference`, scheme by scheme: the largest
+// ||x - x_ref|| / ||x_ref||, and whether both sides have the same schemes.
+struct EstimateDifference {
+  double max_relative = 0;
+  bool same_schemes = true;
+};
+
+EstimateDifference difference(const HilResult& run, const HilVerdict& v,
+                              const std::vector<fw::EstimateRecord>& reference) {
+  EstimateDifference out;
+  for (const est::Scheme scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
+    const std::optional<std::size_t>& k = scheme == est::Scheme::kDescending ? v.dis : v.ais;
+    const fw::EstimateRecord* r = find_estimate(reference, scheme);
+    if (!k.has_value() || r == nullptr) {
+      out.same_schemes = out.same_schemes && !k.has_value() && r == nullptr;
+      continue;
+    }
+    const std::vector<double> x = flatten(run.estimates[*k]), ref = flatten(*r);
+    // Different shapes (n, m) or a NaN are as different as can be, not silently skipped.
+    const double d = x.size() == ref.size() ? stats::relative_difference(x, ref)
+                                             : std::numeric_limits<double>::infinity();
+    out.max_relative = std::isnan(d) ? std::numeric_limits<double>::infinity() : std::max(out.max_relative, d);
+  }
+  return out;
 }
 
 HostComparison compare(const HilResult& run, const HilVerdict& v, const HilResult& host, double tolerance) {
   HostComparison c;
   c.samples = run.samples;
   c.host_samples = host.samples;
-  bool same_schemes = true;
-  for (const est::Scheme scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
-    const std::optional<std::size_t>& k = scheme == est::Scheme::kDescending ? v.dis : v.ais;
-    const fw::EstimateRecord* h = find_estimate(host, scheme);
-    if (!k.has_value() || h == nullptr) {
-      same_schemes = same_schemes && !k.has_value() && h == nullptr;
-      continue;
-    }
-    const std::vector<double> x = flatten(run.estimates[*k]), ref = flatten(*h);
-    // Different shapes (n, m) or a NaN are as different as can be, not silently skipped.
-    const double d = x.size() == ref.size() ? stats::relative_difference(x, ref)
-                                             : std::numeric_limits<double>::infinity();
-    c.max_relative_difference =
-        std::isnan(d) ? std::numeric_limits<double>::infinity() : std::max(c.max_relative_difference, d);
-  }
-  c.equal = same_schemes && c.samples == c.host_samples && c.max_relative_difference <= tolerance;
+  const EstimateDifference d = difference(run, v, host.estimates);
+  c.max_relative_difference = d.max_relative;
+  c.equal = d.same_schemes && c.samples == c.host_samples && c.max_relative_difference <= tolerance;
   return c;
 }
 
@@ -54,24 +67,9 @@ HostComparison compare(const HilResult& run, const HilVerdict& v, const HilResul
 RecordingComparison compare_with_recording(const HilResult& run, const HilVerdict& v,
                                            const std::vector<fw::EstimateRecord>& from_recording, double tolerance) {
   RecordingComparison c;
-  bool same_schemes = true;
-  for (const est::Scheme scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
-    const std::optional<std::size_t>& k = scheme == est::Scheme::kDescending ? v.dis : v.ais;
-    const fw::EstimateRecord* r = nullptr;
-    for (const fw::EstimateRecord& e : from_recording) {
-      if (e.scheme == scheme) r = &e;
-    }
-    if (!k.has_value() || r == nullptr) {
-      same_schemes = same_schemes && !k.has_value() && r == nullptr;
-      continue;
-    }
-    const std::vector<double> x = flatten(run.estimates[*k]), ref = flatten(*r);
-    const double d = x.size() == ref.size() ? stats::relative_difference(x, ref)
-                                             : std::numeric_limits<double>::infinity();
-    c.max_relative_difference =
-        std::isnan(d) ? std::numeric_limits<double>::infinity() : std::max(c.max_relative_difference, d);
-  }
-  c.equal = same_schemes && c.max_relative_difference <= tolerance;
+  const EstimateDifference d = difference(run, v, from_recording);
+  c.max_relative_difference = d.max_relative;
+  c.equal = d.same_schemes && c.max_relative_difference <= tolerance;
   return c;
 }
 

@@ -250,12 +250,9 @@ class GroupedLeastSquares {
     add_rank_one<K>(info, mean[0], static_cast<Scalar>(count[0]));
   }
 
-  static Scalar head_dot(const ZVec& z, const NVec& a, int n) {
-    Scalar s = Scalar(0);
-    for (int i = 0; i < n; ++i) s += z(i) * a(i);
-    return s;
-  }
-  static Scalar head_dot(const NVec& x, const NVec& a, int n) {
+  // sum_{i < n} x(i) a(i), for x a z-vector (its phi_y part) or an n-vector.
+  template <class Vec>
+  static Scalar head_dot(const Vec& x, const NVec& a, int n) {
     Scalar s = Scalar(0);
     for (int i = 0; i < n; ++i) s += x(i) * a(i);
     return s;
