@@ -42,10 +42,13 @@ Reports reports_of(const Board& board) {
   return r;
 }
 
-inline std::vector<std::uint8_t> command(hal::link::Command c) {
-  const std::uint8_t payload = static_cast<std::uint8_t>(c);
+/// A kCommand frame: the command, then its arguments (kStart's flags).
+inline std::vector<std::uint8_t> command(hal::link::Command c, std::vector<std::uint8_t> arguments = {}) {
+  std::vector<std::uint8_t> payload{static_cast<std::uint8_t>(c)};
+  payload.insert(payload.end(), arguments.begin(), arguments.end());
   std::vector<std::uint8_t> frame(hal::link::kMaxFrame);
-  frame.resize(hal::link::encode_frame(hal::link::MessageType::kCommand, 0, &payload, 1, frame.data()));
+  frame.resize(
+      hal::link::encode_frame(hal::link::MessageType::kCommand, 0, payload.data(), payload.size(), frame.data()));
   return frame;
 }
 

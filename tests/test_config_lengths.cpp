@@ -138,7 +138,21 @@ TEST(ConfigLengths, WriterKeepsExactlyTheGivenKeys) {
 TEST(ConfigLengths, UnknownKeyMessageListsTheNewKeys) {
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "step_lenght", 10)),
                        "unknown key 'step_lenght' (allowed: n, m, v_min, v_max, V_d, V_a, operator, step_length, "
-                       "pulse_length_d, pulse_length_a, val_length, val_seed, truth)"));
+                       "pulse_length_d, pulse_length_a, val_length, val_seed, sensor_range, truth)"));
+}
+
+TEST(ConfigSensorRange, OptionalTwoIncreasingNumbersWrittenBackAsGiven) {
+  EXPECT_FALSE(parse(valid_document()).sensor_range.has_value());
+  const json document = with(valid_document(), "sensor_range", json::array({-50, 75.5}));
+  const ExperimentConfig config = parse(document);
+  ASSERT_TRUE(config.sensor_range.has_value());
+  EXPECT_EQ((*config.sensor_range)[0], -50.0);
+  EXPECT_EQ((*config.sensor_range)[1], 75.5);
+  EXPECT_EQ(parse(to_json(config)), config);
+  EXPECT_EQ(config_error(with(valid_document(), "sensor_range", json::array({5, 5}))),
+            "cfg.json: 'sensor_range' = [5, 5] must have lo < hi");
+  EXPECT_TRUE(Contains(config_error(with(valid_document(), "sensor_range", json::array({1}))), "'sensor_range'"));
+  EXPECT_TRUE(Contains(config_error(with(valid_document(), "sensor_range", "wide")), "'sensor_range'"));
 }
 
 TEST(ConfigLimitsTest, AWiderRangeIsNamedInItsErrors) {

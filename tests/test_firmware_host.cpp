@@ -161,6 +161,9 @@ TEST(FirmwareOnHostBoard, CountsTheSamplesTheEstimatorRejects) {
   // The step sample, and per NaN pulse sample its own row and the n = 2 rows that hold it as a lag.
   EXPECT_EQ(firmware.cost().rejected_samples, 1u + 2u * (1 + 2));
   EXPECT_EQ(reports_of(board).cost.rejected_samples, firmware.cost().rejected_samples);
+  // Each NaN is also counted as a bad sensor value, once.
+  EXPECT_EQ(firmware.cost().bad_sensor_values, 3u);
+  EXPECT_EQ(reports_of(board).cost.bad_sensor_values, 3u);
 }
 
 TEST(FirmwareMessages, RecordSizesAndNames) {
@@ -236,7 +239,7 @@ TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
 // A byte channel with a peer that answers kActuate(t, v) by kMeasurement(t, 2v + t), damaging some answers.
 class FaultyPeerChannel {
  public:
-  enum class Fault { kNone, kCorrupt, kDrop, kStaleThenGood };
+  enum class Fault { kNone, kCorrupt, kDrop, kStaleThenGood, kTruncate };
   explicit FaultyPeerChannel(std::vector<Fault> faults) : faults_(std::move(faults)) {}
 
   hal::Status write(const std::uint8_t* data, std::size_t size) {
@@ -270,7 +273,9 @@ class FaultyPeerChannel {
     std::uint8_t frame[hal::link::kMaxFrame];
     const std::size_t n = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
     if (corrupt) frame[7] ^= 0x10;  // one bit of y
-    pending_.insert(pending_.end(), frame, frame + n);
+    // kTruncate: the answer loses its last byte on the line.
+    const std::size_t delivered = requests_ <= faults_.size() && faults_[requests_ - 1] == Fault::kTruncate ? n - 1 : n;
+    pending_.insert(pending_.end(), frame, frame + delivered);
   }
   std::vector<Fault> faults_;
   std::size_t requests_ = 0;
@@ -306,6 +311,56 @@ TEST(RemotePlantPort, GivesUpWithASensorFaultAfterTheRetries) {
   EXPECT_EQ(port.measure(y), hal::Status::kSensorFault);
   EXPECT_EQ(y, 42);  // untouched
   EXPECT_EQ(port.retries(), 2u);
+  // The channel's clock ticks once per read: the waits were 100, then doubled twice, 100 (2^3 - 1) in all.
+  EXPECT_EQ(channel.cycles(), 100u * (1 + 2 + 4));
+}
+
+TEST(RemotePlantPort, AnAnswerCutShortCostsOneRepetitionNotTwo) {
+  using F = FaultyPeerChannel::Fault;
+  // Answer 0 loses its last byte. Kept open in the decoder, it would take the first byte of the repeated answer as
+  // its checksum (a second loss); abandoned when the answer is overdue, the repetition is read whole.
+  FaultyPeerChannel channel({F::kTruncate});
+  hal::RemotePlantPort<FaultyPeerChannel> port(channel, 100, 3);
+  ASSERT_EQ(port.actuate(1.5f), hal::Status::kOk);
+  float y = 0;
+  ASSERT_EQ(port.measure(y), hal::Status::kOk);
+  EXPECT_EQ(y, 3.0f);  // 2 v + t, t = 0
+  EXPECT_EQ(port.retries(), 1u);
+  EXPECT_EQ(port.errors(), 1u);  // the frame cut short
+}
+
+TEST(RemotePlantPort, ANonFiniteMeasurementIsTheSensorsFaultNotTheLinks) {
+  // A verified answer carrying NaN: kOutOfRange with the value, no repetition (asking again gives the same value).
+  struct NanPeer {
+    hal::Status write(const std::uint8_t* data, std::size_t size) {
+      for (std::size_t i = 0; i < size; ++i) {
+        if (decoder.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
+        hal::link::PayloadWriter w;
+        w.u32(decoder.frame().reader().u32());
+        w.f32(std::nanf(""));
+        std::uint8_t frame[hal::link::kMaxFrame];
+        const std::size_t n = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
+        pending.insert(pending.end(), frame, frame + n);
+      }
+      return hal::Status::kOk;
+    }
+    hal::Status read(std::uint8_t& byte) {
+      if (pending.empty()) return hal::Status::kWouldBlock;
+      byte = pending.front();
+      pending.pop_front();
+      return hal::Status::kOk;
+    }
+    std::uint32_t cycles() const { return 0; }
+    hal::link::FrameDecoder decoder;
+    std::deque<std::uint8_t> pending;
+  } peer;
+  hal::RemotePlantPort<NanPeer> port(peer, 100, 3);
+  ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
+  float y = 0;
+  EXPECT_EQ(port.measure(y), hal::Status::kOutOfRange);
+  EXPECT_TRUE(std::isnan(y));
+  EXPECT_EQ(port.retries(), 0u);
+  EXPECT_EQ(port.next_sample(), 1u);
 }
 
 }  // namespace

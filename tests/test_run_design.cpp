@@ -95,9 +95,9 @@ TEST(RunDesignWire, RoundTripsAndRefusesMalformedPayloads) {
   hal::link::PayloadWriter w;
   d.encode(w);
   ASSERT_TRUE(w.ok());
-  // op, n, m + v_min, v_max + 5 lengths + 2 x 4 levels: 3 + 8 + 20 + 32.
-  EXPECT_EQ(w.size(), 63u);
-  EXPECT_EQ(fw::RunDesign::encoded_size(10), 3u + 8 + 20 + 80);
+  // op, n, m + v_min, v_max + 5 lengths + sensor_min, sensor_max + 2 x 4 levels: 3 + 8 + 20 + 8 + 32.
+  EXPECT_EQ(w.size(), 71u);
+  EXPECT_EQ(fw::RunDesign::encoded_size(10), 3u + 8 + 20 + 8 + 80);
   fw::RunDesign back;
   ASSERT_EQ(back.decode(hal::link::PayloadReader(w.data(), w.size())), DesignStatus::kOk);
   EXPECT_EQ(back.n, 3);

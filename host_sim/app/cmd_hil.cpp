@@ -16,6 +16,8 @@
 #include "lashid/hil/verdict.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
+#include "lashid/io/data_error.hpp"
+#include "lashid/io/files.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/io/recording.hpp"
 #include "lashid/report/json.hpp"
@@ -88,6 +90,43 @@ std::vector<fw::EstimateRecord> identify_recording(const ExperimentConfig& confi
   return out;
 }
 
+// The estimates of an earlier run's --json ("dis" and "ais": a, b, F, status), as records to compare with.
+std::vector<fw::EstimateRecord> read_expected_estimates(const std::string& path) {
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(read_file_text(path));
+  } catch (const nlohmann::json::exception& e) {
+    throw DataError(path, fmt::format("not the JSON of a `lashid hil --json` run: {}", e.what()));
+  }
+  std::vector<fw::EstimateRecord> out;
+  for (const auto& [key, scheme] : {std::pair{"dis", est::Scheme::kDescending}, {"ais", est::Scheme::kAscending}}) {
+    if (!document.is_object() || !document.contains(key)) continue;
+    try {
+      const auto& e = document.at(key);
+      const auto a = e.at("a").get<std::vector<float>>(), b = e.at("b").get<std::vector<float>>();
+      const auto F = e.at("F").get<std::vector<float>>();
+      if (a.size() != b.size() || a.empty() || a.size() > fw::kMaxRecordOrder || F.empty() ||
+          F.size() > fw::kMaxRecordPoints) {
+        throw DataError(path, fmt::format("'{}': a and b need 1 to {} entries each, F 1 to {}", key,
+                                          fw::kMaxRecordOrder, fw::kMaxRecordPoints));
+      }
+      fw::EstimateRecord r;
+      r.scheme = scheme;
+      r.status = e.at("status").get<std::uint8_t>();
+      r.n = static_cast<std::uint8_t>(a.size());
+      r.m = static_cast<std::uint8_t>(F.size());
+      std::copy(a.begin(), a.end(), r.a.begin());
+      std::copy(b.begin(), b.end(), r.b.begin());
+      std::copy(F.begin(), F.end(), r.F.begin());
+      out.push_back(r);
+    } catch (const nlohmann::json::exception& e) {
+      throw DataError(path, fmt::format("'{}': {}", key, e.what()));
+    }
+  }
+  if (out.empty()) throw DataError(path, "holds no estimate ('dis' or 'ais'): not a `lashid hil --json` file");
+  return out;
+}
+
 }  // namespace
 
 int run_hil_command(const HilArgs& args) {
@@ -116,6 +155,8 @@ int run_hil_command(const HilArgs& args) {
   options.qemu = args.qemu;
   options.timeout_seconds = args.timeout;
   options.corrupt_every = args.corrupt_every;
+  options.fault_rate = args.fault_rate;
+  options.fault_seed = static_cast<std::uint64_t>(args.fault_seed);
   options.icount = args.icount;
   options.on_progress = [](fw::Stage stage, std::uint32_t samples) {
     fmt::print("  [firmware] {} (after {} samples)\n", fw::to_string(stage), samples);
@@ -143,12 +184,18 @@ int run_hil_command(const HilArgs& args) {
                                                                               r.estimates), args.tolerance);
     if (!verdict.recording->equal) verdict.failures.push_back(HilFailure::kDifferentFromRecording);
   }
+  std::optional<RecordingComparison> expected;
+  if (!args.expect_estimates.empty()) {
+    expected = compare_with_recording(r, verdict, read_expected_estimates(args.expect_estimates), 0.0);
+    if (!expected->equal) verdict.failures.push_back(HilFailure::kDifferentFromExpected);
+  }
 
   fmt::print("== hil: {} on {}, design {}, plant {} (seed {}) ==\n",
              args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine,
              args.config.empty() ? args.scenario : args.config, args.plant.empty() ? args.scenario : args.plant,
              args.seed);
-  fmt::print("  firmware result: {}; QEMU exit status {}\n", run_status_name(r.done), r.qemu_exit);
+  fmt::print("  firmware result: {}; QEMU exit status {}{}\n", run_status_name(r.done), r.qemu_exit,
+             r.qemu_exit > 128 ? fmt::format(" (QEMU was killed by signal {})", r.qemu_exit - 128) : "");
   if (r.design_status > 0) {
     fmt::print("  the firmware refused the design: {}\n",
                fw::to_string(static_cast<fw::DesignStatus>(r.design_status)));
@@ -156,6 +203,14 @@ int run_hil_command(const HilArgs& args) {
   fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
              "damaged on purpose\n",
              r.samples, r.repeated_requests, r.protocol_errors, r.corrupted_by_host);
+  if (args.fault_rate > 0) {
+    fmt::print("  link faults (rate {:g}, seed {}): {} of {} bytes ({} dropped, {} garbled, {} duplicated); detected: "
+               "{} frames by the host, {} by the firmware; sent again: {} by the host, {} plant requests by the "
+               "firmware\n",
+               args.fault_rate, args.fault_seed, r.faults.injected(), r.faults.bytes, r.faults.dropped,
+               r.faults.flipped, r.faults.duplicated, r.protocol_errors, r.cost ? r.cost->link_errors : 0,
+               r.host_retries, r.cost ? r.cost->retries : 0);
+  }
   if (!args.record.empty()) {
     fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
                r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
@@ -183,9 +238,10 @@ int run_hil_command(const HilArgs& args) {
     const double per_update = c.updates ? static_cast<double>(c.update_cycles) / c.updates : 0.0;
     const double per_solve = c.solves ? static_cast<double>(c.solve_cycles) / c.solves : 0.0;
     const double amortised = c.updates ? static_cast<double>(c.update_cycles + c.solve_cycles) / c.updates : 0.0;
-    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes, samples rejected by "
-               "the estimator {}, reports not sent {}\n",
-               c.samples, c.link_errors, c.retries, c.stack_bytes, c.rejected_samples, c.send_failures);
+    fmt::print("  firmware: {} samples, link errors {}, retries {}, stack high-water {} bytes, bad sensor values {}, "
+               "samples rejected by the estimator {}, reports not sent {}\n",
+               c.samples, c.link_errors, c.retries, c.stack_bytes, c.bad_sensor_values, c.rejected_samples,
+               c.send_failures);
     fmt::print("  cost (board cycles{}): update {:.1f}/sample, solve {:.0f}/call ({} calls), amortised {:.1f}/sample\n",
                args.icount ? "" : "; without --icount SysTick follows host time: not an instruction count",
                per_update, per_solve, c.solves, amortised);
@@ -197,7 +253,8 @@ int run_hil_command(const HilArgs& args) {
     out["cost"] = {{"update_cycles", c.update_cycles}, {"updates", c.updates},   {"solve_cycles", c.solve_cycles},
                    {"solves", c.solves},               {"samples", c.samples},   {"link_errors", c.link_errors},
                    {"retries", c.retries},             {"stack_bytes", c.stack_bytes},
-                   {"rejected_samples", c.rejected_samples}, {"send_failures", c.send_failures}};
+                   {"rejected_samples", c.rejected_samples}, {"send_failures", c.send_failures},
+                   {"bad_sensor_values", c.bad_sensor_values}};
   }
   for (const auto& e : r.estimates) out[e.scheme == est::Scheme::kDescending ? "dis" : "ais"] = estimate_json(e);
   out["done"] = r.done;
@@ -217,6 +274,25 @@ int run_hil_command(const HilArgs& args) {
                args.record, verdict.recording->max_relative_difference, args.tolerance,
                verdict.recording->equal ? "equal" : "DIFFERENT");
     out["recording_relative_difference"] = verdict.recording->max_relative_difference;
+  }
+  if (args.fault_rate > 0) {
+    // injected: bytes damaged on purpose; detected: frames dropped by a checksum or length check or out of turn,
+    // on either side; retries: requests sent again after a loss, by the host and by the firmware.
+    const std::uint32_t firmware_errors = r.cost ? r.cost->link_errors : 0, firmware_retries = r.cost ? r.cost->retries : 0;
+    out["faults"] = {{"rate", args.fault_rate},
+                     {"seed", args.fault_seed},
+                     {"injected", r.faults.injected()},
+                     {"dropped", r.faults.dropped},
+                     {"garbled", r.faults.flipped},
+                     {"duplicated", r.faults.duplicated},
+                     {"bytes", r.faults.bytes},
+                     {"detected", std::uint64_t{r.protocol_errors} + firmware_errors},
+                     {"retries", std::uint64_t{r.host_retries} + firmware_retries}};
+  }
+  if (expected) {
+    fmt::print("  estimates vs {}: max relative difference {:.2g}: {}\n", args.expect_estimates,
+               expected->max_relative_difference, expected->equal ? "identical" : "DIFFERENT");
+    out["expected_relative_difference"] = expected->max_relative_difference;
   }
   if (verdict.fault_injection) {
     const FaultInjection& f = *verdict.fault_injection;

@@ -50,6 +50,9 @@ struct HilArgs {
   std::string qemu = "qemu-system-arm";
   double timeout = 300;
   int corrupt_every = 0;
+  double fault_rate = 0;
+  std::uint64_t fault_seed = 1;
+  std::string expect_estimates;  // an earlier run's --json: the estimates must equal its own exactly
   bool compare_host = false;
   double tolerance = 1e-3;
   double ticks_to_instructions = 0;

@@ -133,6 +133,16 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   cmd->add_option("--corrupt-every", args.corrupt_every,
                       "Fault injection: damage every k-th measurement frame (the firmware must detect it)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--fault-rate", args.fault_rate,
+                  "Fault injection: drop, garble or duplicate each byte on both UARTs, both ways, with this "
+                  "probability (checked, re-sent; a link that is too bad ends the run with a named failure)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--fault-seed", args.fault_seed, "Seed of --fault-rate's draws")->check(kNonNegativeSeed)
+      ->capture_default_str();
+  cmd->add_option("--expect-estimates", args.expect_estimates,
+                  "An earlier run's --json (e.g. the clean run of a fault-injection test): the estimates must equal "
+                  "its own exactly, bit for bit")
+      ->check(CLI::ExistingFile);
   cmd->add_flag("--compare-host", args.compare_host,
                     "Also run the same firmware on the in-process host board and require equal estimates");
   cmd->add_option("--tolerance", args.tolerance, "Relative tolerance of --compare-host")->capture_default_str();

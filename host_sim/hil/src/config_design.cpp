@@ -83,6 +83,12 @@ fw::RunDesign run_design_as_is(const ExperimentConfig& config, const ExperimentL
   d.pulse_length_a = to_count(lengths.pulse_length_a, "pulse_length_a", source_name);
   d.val_length = to_count(lengths.val_length, "val_length", source_name);
   d.val_seed = lengths.val_seed;
+  if (config.sensor_range) {
+    // Rounded outwards: a value the host's double range allows is never a bad value on the device.
+    const auto [lo, hi] = *config.sensor_range;
+    d.sensor_min = std::nextafter(to_float(lo, "sensor_range", source_name), -std::numeric_limits<float>::infinity());
+    d.sensor_max = std::nextafter(to_float(hi, "sensor_range", source_name), std::numeric_limits<float>::infinity());
+  }
   return d;
 }
 
@@ -152,6 +158,8 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
                          dis ? "pulse_length_d" : "pulse_length_a", dis ? d.pulse_length_d : d.pulse_length_a,
                          2 * d.period(), d.n, d.m);
     }
+    case S::kSensorRangeInvalid:
+      return fmt::format("'sensor_range' = [{}, {}] must have lo < hi", d.sensor_min, d.sensor_max);
     case S::kRunTooLong:
       return fmt::format("the run does not fit the firmware's 32-bit sample counter (at most {} samples with the "
                          "interval check): shorten 'step_length', 'pulse_length_d', 'pulse_length_a' or 'val_length'",

@@ -1,4 +1,5 @@
 // The firmware on the in-process host board, and the run-time design of a scenario or a config.
+#include <algorithm>
 #include <cstddef>
 #include <optional>
 #include <stdexcept>
@@ -24,7 +25,18 @@ void collect(const hal::link::Frame& f, HilResult& result) {
     case link::MessageType::kEstimate: {
       fw::EstimateRecord e;
       if (e.decode(f.reader())) {
-        result.estimates.push_back(e);
+        // A report sent again (the host asked for it after a loss) replaces the scheme's record.
+        const auto same = std::find_if(result.estimates.begin(), result.estimates.end(),
+                                       [&](const fw::EstimateRecord& r) { return r.scheme == e.scheme; });
+        if (same != result.estimates.end()) {
+          *same = e;
+        } else {
+          result.estimates.push_back(e);
+          // DIS before AIS, as the firmware sends them, also when the first was lost and came again later.
+          std::stable_sort(result.estimates.begin(), result.estimates.end(), [](const auto& x, const auto& y) {
+            return static_cast<int>(x.scheme) < static_cast<int>(y.scheme);
+          });
+        }
       } else {
         ++result.protocol_errors;
       }

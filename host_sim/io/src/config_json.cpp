@@ -25,9 +25,9 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<std::string_view, 13> kConfigKeys = {
+constexpr std::array<std::string_view, 14> kConfigKeys = {
     "n", "m", "v_min", "v_max", "V_d", "V_a", "operator",
-    "step_length", "pulse_length_d", "pulse_length_a", "val_length", "val_seed", "truth"};
+    "step_length", "pulse_length_d", "pulse_length_a", "val_length", "val_seed", "sensor_range", "truth"};
 constexpr std::array<std::string_view, 6> kTruthKeys = {"a", "b", "F_d", "F_a", "ybar0_d", "ybar0_a"};
 
 // Turns the JSON document into an ExperimentConfig, naming the offending key in every error.
@@ -128,6 +128,13 @@ class ConfigReader : detail::JsonFieldReader {
     config.val_seed = read_optional_integer<std::uint32_t>(document, "val_seed", 0,
                                                            std::numeric_limits<std::uint32_t>::max(),
                                                            "must not be negative (an unsigned 32-bit seed)");
+    if (const auto found = document.find("sensor_range"); found != document.end()) {
+      const std::vector<double> range = read_array(*found, "sensor_range", 2, "[lo, hi]: 2");
+      if (!(range[0] < range[1])) {
+        fail(fmt::format("'sensor_range' = [{}, {}] must have lo < hi", range[0], range[1]));
+      }
+      config.sensor_range = std::array<double, 2>{range[0], range[1]};
+    }
   }
 
   std::vector<double> read_array(const json& value, std::string_view key, std::size_t expected_size,
@@ -229,6 +236,7 @@ nlohmann::json to_json(const ExperimentConfig& config) {
   if (config.pulse_length_a) document["pulse_length_a"] = *config.pulse_length_a;
   if (config.val_length) document["val_length"] = *config.val_length;
   if (config.val_seed) document["val_seed"] = *config.val_seed;
+  if (config.sensor_range) document["sensor_range"] = *config.sensor_range;
   if (config.truth) {
     const Truth& truth = *config.truth;
     json truth_document = json::object();

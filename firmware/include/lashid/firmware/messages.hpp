@@ -155,7 +155,7 @@ struct CrossCheckRecord {
 
 /// Footprint and cost (kCost), in board cycles (SysTick on Cortex-M), and what went wrong without ending the run.
 struct CostRecord {
-  static constexpr std::size_t kEncodedSize = 10 * 4;
+  static constexpr std::size_t kEncodedSize = 11 * 4;
   std::uint32_t update_cycles = 0;  ///< total over all estimator updates (add_pulse_sample)
   std::uint32_t updates = 0;
   std::uint32_t solve_cycles = 0;   ///< total over all estimate() calls (once per pulse period)
@@ -170,15 +170,18 @@ struct CostRecord {
   /// Reports not sent because their payload did not fit a frame (the records before this one; none can, by the
   /// sequencer's static_asserts, so anything but 0 is a defect).
   std::uint32_t send_failures = 0;
+  /// Sensor values that were NaN, infinite or outside the design's sensor range: counted and never estimated from
+  /// (the rows that hold one are among rejected_samples).
+  std::uint32_t bad_sensor_values = 0;
 
   void encode(hal::link::PayloadWriter& w) const {
     for (std::uint32_t x : {update_cycles, updates, solve_cycles, solves, samples, link_errors, retries, stack_bytes,
-                            rejected_samples, send_failures})
+                            rejected_samples, send_failures, bad_sensor_values})
       w.u32(x);
   }
   bool decode(hal::link::PayloadReader r) {
     for (std::uint32_t* x : {&update_cycles, &updates, &solve_cycles, &solves, &samples, &link_errors, &retries,
-                             &stack_bytes, &rejected_samples, &send_failures})
+                             &stack_bytes, &rejected_samples, &send_failures, &bad_sensor_values})
       *x = r.u32();
     return r.ok() && r.at_end();
   }

@@ -1,7 +1,8 @@
 // The design of one identification run, chosen at run time: what the host sends with the start of a run (kDesign)
 // and what one firmware image executes, within the image's compile-time capacity (kMaxOrder, kMaxPoints).
 //   operator, n, m, [v_m, v_M], V^d (3.1), V^a (4.2), L of both step experiments (3.4)/(4.1), N of the DP and AP
-//   pulse experiments, and the length and seed of the validation phase.
+//   pulse experiments, the length and seed of the validation phase, and the sensor's range (a value outside it is a
+//   bad sensor value: counted, never estimated from).
 // check_design() applies the paper's design rules at run time and names the first one violated; the firmware runs
 // nothing on a design that fails it, and the host's `lashid design` applies the same function to a config file.
 // Header-only, heap-free, float32 as the firmware computes.
@@ -49,6 +50,7 @@ enum class [[nodiscard]] DesignStatus : std::uint8_t {
   kPulseDTooShort,      ///< N of the DP experiment < two pulse periods 2T, T = s (m + 3) (Theorem 3.1)
   kPulseATooShort,      ///< N of the AP experiment < 2T
   kRunTooLong,          ///< the samples of the whole run do not fit the firmware's 32-bit counters
+  kSensorRangeInvalid,  ///< the sensor range is NaN or empty (need sensor_min < sensor_max; infinite bounds allowed)
   kBusy,                ///< a design arrived after the start: a run's design cannot change (the run goes on)
 };
 
@@ -72,6 +74,7 @@ constexpr const char* to_string(DesignStatus s) {
     case DesignStatus::kPulseDTooShort: return "pulse_length_d shorter than two pulse periods (Theorem 3.1)";
     case DesignStatus::kPulseATooShort: return "pulse_length_a shorter than two pulse periods (Theorem 3.1)";
     case DesignStatus::kRunTooLong: return "the run's sample count does not fit 32 bits";
+    case DesignStatus::kSensorRangeInvalid: return "sensor range invalid (need sensor_min < sensor_max)";
     case DesignStatus::kBusy: return "a run is under way: its design cannot change";
   }
   return "unknown design status";
@@ -91,6 +94,12 @@ struct RunDesign {
   std::uint32_t pulse_length_a = 0;     ///< N of the AP experiment
   std::uint32_t val_length = 0;         ///< samples of the validation phase (0: none)
   std::uint32_t val_seed = 0;           ///< seed of the validation excitation
+  /// The sensor's range: a measured y outside [sensor_min, sensor_max] (or not finite) is a bad sensor value.
+  float sensor_min = -std::numeric_limits<float>::infinity();
+  float sensor_max = std::numeric_limits<float>::infinity();
+
+  /// Whether a measured value can be estimated from: finite and within the sensor's range.
+  constexpr bool sensor_value_ok(float y) const { return std::isfinite(y) && y >= sensor_min && y <= sensor_max; }
 
   /// Pulse period T of Theorem 3.1 (3.25) for this n, m.
   constexpr int period() const { return est::schedule::period(n, m); }
@@ -102,9 +111,10 @@ struct RunDesign {
                              : 0U;
   }
 
-  /// Payload bytes of kDesign for m points: op, n, m (u8); v_min, v_max (f32); five lengths (u32); V_d, V_a.
+  /// Payload bytes of kDesign for m points: op, n, m (u8); v_min, v_max (f32); five lengths (u32); sensor_min,
+  /// sensor_max (f32); V_d, V_a.
   static constexpr std::size_t encoded_size(int points) {
-    return 3 + 2 * 4 + 5 * 4 + 2 * 4 * static_cast<std::size_t>(points);
+    return 3 + 2 * 4 + 5 * 4 + 2 * 4 + 2 * 4 * static_cast<std::size_t>(points);
   }
 
   void encode(hal::link::PayloadWriter& w) const {
@@ -114,6 +124,8 @@ struct RunDesign {
     w.f32(v_min);
     w.f32(v_max);
     for (std::uint32_t x : {step_length, pulse_length_d, pulse_length_a, val_length, val_seed}) w.u32(x);
+    w.f32(sensor_min);
+    w.f32(sensor_max);
     for (int j = 0; j < m && j < kMaxPoints; ++j) w.f32(V_d[static_cast<std::size_t>(j)]);
     for (int j = 0; j < m && j < kMaxPoints; ++j) w.f32(V_a[static_cast<std::size_t>(j)]);
   }
@@ -130,6 +142,8 @@ struct RunDesign {
     v_min = r.f32();
     v_max = r.f32();
     for (std::uint32_t* x : {&step_length, &pulse_length_d, &pulse_length_a, &val_length, &val_seed}) *x = r.u32();
+    sensor_min = r.f32();
+    sensor_max = r.f32();
     for (int j = 0; j < m; ++j) V_d[static_cast<std::size_t>(j)] = r.f32();
     for (int j = 0; j < m; ++j) V_a[static_cast<std::size_t>(j)] = r.f32();
     if (!r.ok() || !r.at_end()) return DesignStatus::kMalformed;
@@ -193,6 +207,7 @@ constexpr DesignStatus check_design(const RunDesign& d) {
   const std::uint64_t total =
       check + 2ULL * (d.step_length + 1ULL) + d.pulse_length_d + d.pulse_length_a + d.val_length;
   if (total > std::numeric_limits<std::uint32_t>::max()) return DesignStatus::kRunTooLong;
+  if (!(d.sensor_min < d.sensor_max)) return DesignStatus::kSensorRangeInvalid;
   return DesignStatus::kOk;
 }
 

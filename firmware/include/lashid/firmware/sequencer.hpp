@@ -5,22 +5,24 @@
 //   (3.1) with the recursive estimator updated every sample and solved once per pulse period -> DIS estimate -> AIS
 //   step experiment (4.1) -> AP pulse experiment (4.2) -> AIS estimate -> validation phase (ValidationExcitation)
 //   -> cross-check of the two linear estimates (Remark 3b) -> reports over the link (estimates, cross-check, cost)
-//   -> done.
+//   -> done [-> holding the reports: sent again on kReport, until kFinish or kReportHoldSeconds].
 // Each stage change is announced with a kStatus frame (progress for the host). Commands over the link
-// (hal/link_protocol.hpp): design, start, stop, query. Heap-free, no exceptions, float32.
+// (hal/link_protocol.hpp): design, start, stop, query, report, finish. A sensor value that is NaN, infinite or
+// outside the design's sensor range is counted (CostRecord::bad_sensor_values) and never estimated from.
+// Heap-free, no exceptions, float32.
 #pragma once
 
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <span>
+#include <limits>
 
-#include "lashid/estimator/cross_check.hpp"
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/firmware/messages.hpp"
 #include "lashid/firmware/run_design.hpp"
+#include "lashid/firmware/run_report.hpp"
 #include "lashid/firmware/validation_excitation.hpp"
 #include "lashid/hal/board.hpp"
 #include "lashid/hal/link_protocol.hpp"
@@ -32,11 +34,9 @@ class IdentificationSequencer {
  public:
   static constexpr int N = kMaxOrder;
   static constexpr int M = kMaxPoints;
-  /// Interval check: a square wave v_M / v_m of half-period 2T, kIntervalCheckPeriods periods (run_design.hpp). The
-  /// first period and the first half of every half-period are transient and not used: only settled samples count,
-  /// otherwise an oscillating transient inflates the variance and hides the difference.
-  /// Remark 3b threshold, in standard errors of the difference.
-  static constexpr float kCrossCheckSigmas = 4.0f;
+  /// With kStartHoldReports: how long the reports are held after a run for a host that lost one (each kReport
+  /// starts the wait again). Only on boards that know their cycle rate (hal::KnowsCycleRate); others do not hold.
+  static constexpr std::uint32_t kReportHoldSeconds = 2;
   using Identifier = est::SchemeIdentifier<float, N, M>;
   using Estimate = typename Identifier::Estimate;
   using Design = est::ExperimentDesign<float, M>;
@@ -75,8 +75,8 @@ class IdentificationSequencer {
       case Stage::kValidation: return validation_sample();
       case Stage::kReport:
         report();
-        return false;
-      case Stage::kDone: return false;
+        return holding();
+      case Stage::kDone: return holding();
     }
     return false;
   }
@@ -135,6 +135,8 @@ class IdentificationSequencer {
   }
 
   /// One plant exchange at the next sample instant. False (and the run is finished) on a board failure.
+  /// A bad sensor value (kOutOfRange from the board, or a value that is not finite or outside the design's sensor
+  /// range) is counted and replaced by NaN: the estimator leaves out every row that holds it (rejected_samples).
   bool exchange(float v, float& y) {
     // A late tick (kTimeout) is not an error: the sample is taken late. Boards count overruns themselves.
     (void)board_.wait_for_sample_tick();
@@ -147,9 +149,13 @@ class IdentificationSequencer {
       finish(RunStatus::kStopped);
       return false;
     }
-    if (s != hal::Status::kOk) {
+    if (s != hal::Status::kOk && s != hal::Status::kOutOfRange) {
       finish(RunStatus::kSensorFault);
       return false;
+    }
+    if (s == hal::Status::kOutOfRange || !design_.sensor_value_ok(y)) {
+      ++cost_.bad_sensor_values;
+      y = std::numeric_limits<float>::quiet_NaN();
     }
     ++cost_.samples;
     return true;
@@ -209,7 +215,7 @@ class IdentificationSequencer {
     if (t_ == length) {
       // The final estimate, with standard errors (cross-check, report), kept as its record: a third of the RAM.
       identifier_.estimate_into(latest_);
-      (dis ? dis_ : ais_) = record(latest_, dis ? est::Scheme::kDescending : est::Scheme::kAscending);
+      (dis ? dis_ : ais_) = to_record(latest_, dis ? est::Scheme::kDescending : est::Scheme::kAscending, design_);
       if (dis) {
         enter(Stage::kStepA);
       } else {
@@ -233,58 +239,10 @@ class IdentificationSequencer {
     return true;
   }
 
-  /// The record of a scheme that did not run (reported as such when a run ends early).
-  static EstimateRecord not_run(est::Scheme scheme) {
-    EstimateRecord r;
-    r.scheme = scheme;
-    r.status = static_cast<std::uint8_t>(est::Status::kNotExcited);
-    return r;
-  }
-
-  static bool scheme_ok(const EstimateRecord& r) { return r.status == static_cast<std::uint8_t>(est::Status::kOk); }
-
-  EstimateRecord record(const Estimate& e, est::Scheme scheme) const {
-    EstimateRecord r;
-    r.scheme = scheme;
-    r.status = static_cast<std::uint8_t>(e.status);
-    r.n = design_.n;
-    r.m = design_.m;
-    r.ybar0 = e.ybar0;
-    r.noise_variance = e.ls.noise_variance;
-    for (int i = 0; i < design_.n; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      r.a[k] = e.a(i);
-      r.se_a[k] = e.ls.std_error(i);
-      r.b[k] = e.b(i);
-      r.se_b[k] = est::b_std_error(e.ls.std_error(design_.n + i), design_.v_min, design_.v_max);
-    }
-    for (int j = 0; j < design_.m; ++j) r.F[static_cast<std::size_t>(j)] = e.F(j);
-    return r;
-  }
-
-  est::LinearEstimate<float> linear_part(const EstimateRecord& r) const {
-    const auto n = static_cast<std::size_t>(design_.n);
-    return {std::span<const float>(r.a.data(), n), std::span<const float>(r.se_a.data(), n),
-            std::span<const float>(r.b.data(), n), std::span<const float>(r.se_b.data(), n)};
-  }
-
-  // Remark 3b on the reported a, b and standard errors; not available unless both schemes succeeded.
-  void compute_cross_check(const EstimateRecord& dis, const EstimateRecord& ais) {
-    cross_.threshold = kCrossCheckSigmas;
-    if (!scheme_ok(dis) || !scheme_ok(ais)) {
-      cross_.max_z = -1.0f;
-      return;
-    }
-    const est::CrossCheck<float> c = est::cross_check(linear_part(dis), linear_part(ais));
-    cross_.max_z = c.max_z;
-    cross_.worst = static_cast<std::uint8_t>(c.worst);
-    cross_.disagree = cross_.max_z > cross_.threshold ? 1 : 0;
-  }
-
+  /// Completes the reports once (cross-check, the board's figures), sends them, and starts holding them when the
+  /// host asked for it with the start.
   void report() {
-    const EstimateRecord& dis = dis_;
-    const EstimateRecord& ais = ais_;
-    compute_cross_check(dis, ais);
+    cross_ = cross_check_of(dis_, ais_);
     // Optional board extensions (hal/board.hpp): a board that cannot tell does not model the concept.
     if constexpr (hal::ReportsStackUse<B>) {
       cost_.stack_bytes = static_cast<std::uint32_t>(board_.stack_high_water_bytes());
@@ -293,12 +251,18 @@ class IdentificationSequencer {
       cost_.link_errors += static_cast<std::uint32_t>(board_.exchange_errors());
       cost_.retries = static_cast<std::uint32_t>(board_.exchange_retries());
     }
-    // Both records always go out; a scheme that never ran reports status kNotExcited.
+    stage_ = Stage::kDone;
+    send_reports();
+    hold_start_ = board_.cycles();
+  }
+
+  /// Both records always go out; a scheme that never ran reports status kNotExcited. Sent again on kReport.
+  void send_reports() {
     hal::link::PayloadWriter w;
-    dis.encode(w);
+    dis_.encode(w);
     send(hal::link::MessageType::kEstimate, w);
     hal::link::PayloadWriter wa;
-    ais.encode(wa);
+    ais_.encode(wa);
     send(hal::link::MessageType::kEstimate, wa);
     hal::link::PayloadWriter wc;
     cross_.encode(wc);
@@ -309,7 +273,17 @@ class IdentificationSequencer {
     hal::link::PayloadWriter wd;
     wd.u8(static_cast<std::uint8_t>(result_));
     send(hal::link::MessageType::kDone, wd);
-    stage_ = Stage::kDone;
+  }
+
+  /// Whether the run goes on holding its reports (kStartHoldReports, until kFinish or the hold time).
+  bool holding() const {
+    if constexpr (hal::KnowsCycleRate<B>) {
+      constexpr std::uint32_t hold = B::kCyclesPerSecond * kReportHoldSeconds;
+      static_assert(hold / kReportHoldSeconds == B::kCyclesPerSecond, "the hold time must fit 32-bit cycles");
+      return hold_reports_ && board_.cycles() - hold_start_ < hold;
+    } else {
+      return false;
+    }
   }
 
   /// A payload that overflowed the writer is truncated: it is not sent (the host would decode garbage or reject
@@ -369,20 +343,43 @@ class IdentificationSequencer {
         on_design(f);
         continue;
       }
-      if (f.type != hal::link::MessageType::kCommand || f.size != 1) continue;
-      switch (static_cast<hal::link::Command>(f.payload[0])) {
-        case hal::link::Command::kStart: started_ = true; break;
-        case hal::link::Command::kStop:
-          if (stage_ != Stage::kDone && stage_ != Stage::kReport) finish(RunStatus::kStopped);
-          break;
-        case hal::link::Command::kQuery: send_status(); break;
-      }
+      if (f.type == hal::link::MessageType::kCommand) on_command(f);
+    }
+  }
+
+  void on_command(const hal::link::Frame& f) {
+    using hal::link::Command;
+    if (f.size == 0) return;
+    const auto command = static_cast<Command>(f.payload[0]);
+    if (command == Command::kStart && f.size <= 2) {
+      if (stage_ == Stage::kIdle && f.size == 2) hold_reports_ = (f.payload[1] & hal::link::kStartHoldReports) != 0;
+      started_ = true;
+      return;
+    }
+    if (f.size != 1) return;
+    switch (command) {
+      case Command::kStart: break;
+      case Command::kStop:
+        if (stage_ != Stage::kDone && stage_ != Stage::kReport) finish(RunStatus::kStopped);
+        break;
+      case Command::kQuery: send_status(); break;
+      case Command::kReport:
+        if (stage_ == Stage::kDone && holding()) {
+          send_reports();
+          hold_start_ = board_.cycles();
+        } else {
+          send_status();
+        }
+        break;
+      case Command::kFinish: hold_reports_ = false; break;
     }
   }
 
   B& board_;
   bool started_ = false;
   bool design_ok_ = false;
+  bool hold_reports_ = false;
+  std::uint32_t hold_start_ = 0;
   DesignStatus design_status_ = DesignStatus::kMalformed;  // no design yet
   RunDesign design_{};
   Stage stage_ = Stage::kIdle;

@@ -53,4 +53,11 @@ concept ReportsExchangeErrors = requires(const B& board) {
   { board.exchange_retries() } -> std::convertible_to<std::uint32_t>;
 };
 
+/// The rate of cycles() in cycles per second, known at compile time: lets the firmware bound waits in time (the
+/// hold of its reports after a run) without a clock of its own.
+template <class B>
+concept KnowsCycleRate = requires {
+  { B::kCyclesPerSecond } -> std::convertible_to<std::uint32_t>;
+};
+
 }  // namespace lashid::hal

@@ -35,7 +35,19 @@ enum class MessageType : std::uint8_t {
   kDone = 0x3F,         ///< firmware -> host: u8 overall status (0 = ok); the run is over
 };
 
-enum class Command : std::uint8_t { kStart = 1, kStop = 2, kQuery = 3 };
+/// The payload of kCommand: the command byte, then the command's arguments.
+///   kStart [flags]  start the run of the design received (kStartHoldReports: see below)
+///   kStop           end the run now (its reports are sent)
+///   kQuery          answered with a kStatus
+///   kReport         after the run: send every report again (estimates, cross-check, cost, done); a host that lost
+///                   one on the link asks for them again. Answered only while the firmware holds its reports.
+///   kFinish         the host has every report: the firmware stops holding them and the run ends
+/// A command frame whose first byte is not a command, or with arguments a command does not take, is ignored.
+enum class Command : std::uint8_t { kStart = 1, kStop = 2, kQuery = 3, kReport = 4, kFinish = 5 };
+
+/// kStart flag: after the reports, hold them (answer kReport) until kFinish or the board's hold time, so that a
+/// report lost on the link can be asked for again. Without it the run ends as soon as the reports are sent.
+inline constexpr std::uint8_t kStartHoldReports = 0x01;
 
 /// CRC-16/CCITT-FALSE, bitwise (small code; a table would cost 512 bytes of flash for no measurable gain here).
 /// The arithmetic is in `unsigned` (no signed promotions): bits above 15 only ever move left, never into the low
@@ -197,8 +209,20 @@ class FrameDecoder {
     return Result::kNeedMore;
   }
 
+  /// Gives up a frame cut short (a byte lost on the line), so that the next frame is not read as its tail: the
+  /// receiver calls it after a silence no frame has inside it (e.g. when an answer is overdue). True if a partial
+  /// frame was dropped (counted in truncated()).
+  bool abandon_partial() {
+    if (state_ == State::kHunt0) return false;
+    const bool partial = state_ != State::kHunt1;  // a lone sync byte is no frame yet
+    state_ = State::kHunt0;
+    if (partial) ++truncated_;
+    return partial;
+  }
+
   const Frame& frame() const { return frame_; }
   std::uint32_t frames() const { return frames_; }
+  std::uint32_t truncated() const { return truncated_; }
   std::uint32_t crc_errors() const { return crc_errors_; }
   std::uint32_t length_errors() const { return length_errors_; }
   std::uint32_t errors() const { return crc_errors_ + length_errors_; }
@@ -213,6 +237,7 @@ class FrameDecoder {
   std::uint32_t frames_ = 0;
   std::uint32_t crc_errors_ = 0;
   std::uint32_t length_errors_ = 0;
+  std::uint32_t truncated_ = 0;
 };
 
 }  // namespace lashid::hal::link

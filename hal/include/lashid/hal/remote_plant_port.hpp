@@ -1,8 +1,10 @@
 // The actuator and the sensor reached over a byte channel (on QEMU: UART1, with `lashid hil` playing the actuator
 // and the plant). One exchange per sample: kActuate(t, v) out, kMeasurement(t, y) back (hal/link_protocol.hpp).
 // A damaged frame is dropped and counted, and the request is sent again at once; a missing answer is sent again
-// after `timeout_cycles`; an answer for another t is stale, counted and ignored. The peer must answer a repeated
-// t with the same y (it must not step the plant twice). Nothing unverified is ever returned as a measurement.
+// after a timeout that starts at `timeout_cycles` and doubles with each repetition (a lost byte costs one short
+// wait, while a peer that is only slow for a while, e.g. a loaded host, is not given up on); an answer for another t
+// is stale, counted and ignored. The peer must answer a repeated t with the same y (it must not step the plant
+// twice). Nothing unverified is ever returned as a measurement.
 #pragma once
 
 #include <cmath>
@@ -34,16 +36,23 @@ class RemotePlantPort {
     return send_request();
   }
 
-  /// Waits for y of the sample last actuated. kOk; kSensorFault (non-finite y, or no valid answer after
-  /// max_retries repetitions); kStopped (the peer sent an empty measurement: end of the session).
+  /// Waits for y of the sample last actuated. kOk; kOutOfRange (a verified answer whose value is NaN or infinite:
+  /// y holds it, the sensor's fault, not the link's); kSensorFault (no valid answer after max_retries
+  /// repetitions); kStopped (the peer sent an empty measurement: end of the session).
   Status measure(float& y) {
+    std::uint32_t timeout = timeout_cycles_;
     for (int attempt = 0; attempt <= max_retries_; ++attempt) {
       if (attempt > 0) {
         ++retries_;
+        // The answer is overdue: a frame still open in the decoder lost a byte. Dropped now, it cannot swallow the
+        // start of the answer to the repeated request.
+        if (decoder_.abandon_partial()) ++errors_;
+        // Doubled up to half the counter's range, so that the difference below stays meaningful.
+        if (timeout < 0x8000'0000U) timeout *= 2U;
         if (send_request() != Status::kOk) continue;
       }
       const std::uint32_t start = channel_.cycles();
-      while (channel_.cycles() - start < timeout_cycles_) {
+      while (channel_.cycles() - start < timeout) {
         std::uint8_t byte = 0;
         const Status s = channel_.read(byte);
         if (s == Status::kWouldBlock) continue;
@@ -68,9 +77,8 @@ class RemotePlantPort {
           continue;
         }
         ++t_;
-        if (!std::isfinite(value)) return Status::kSensorFault;
         y = value;
-        return Status::kOk;
+        return std::isfinite(value) ? Status::kOk : Status::kOutOfRange;
       }
     }
     ++t_;  // give the sample up; the next exchange is a new t

@@ -62,6 +62,9 @@ class HostBoard {
     return Status::kOk;
   }
 
+  /// cycles() counts nanoseconds (hal::KnowsCycleRate).
+  static constexpr std::uint32_t kCyclesPerSecond = 1'000'000'000;
+
   /// Nanoseconds of the steady clock, wrapping at 2^32 like a cycle counter.
   std::uint32_t cycles() const {
     const auto ns =

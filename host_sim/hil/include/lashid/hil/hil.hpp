@@ -14,6 +14,7 @@
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/host_board.hpp"
 #include "lashid/hil/any_plant.hpp"
+#include "lashid/hil/link_faults.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/sim/scenario.hpp"
 
@@ -34,6 +35,10 @@ struct HilOptions {
   std::string qemu = "qemu-system-arm";
   double timeout_seconds = 300;         ///< wall-clock limit for the whole run; QEMU is killed after it
   int corrupt_every = 0;                ///< > 0: flip one bit in every k-th measurement frame (fault injection)
+  /// > 0: each byte on each direction of both UARTs is dropped, garbled or duplicated with this probability
+  /// (link_faults.hpp), drawn from fault_seed.
+  double fault_rate = 0;
+  std::uint64_t fault_seed = 1;
   bool icount = false;                  ///< QEMU -icount shift=0: deterministic cycle counts, much slower I/O
   /// Called on each kStatus frame (the firmware announces every stage change): progress while the run goes on.
   std::function<void(fw::Stage stage, std::uint32_t samples)> on_progress;
@@ -53,6 +58,9 @@ struct HilResult {
   std::uint32_t repeated_requests = 0;  ///< kActuate for an already answered t (answered from the cache)
   std::uint32_t protocol_errors = 0;  ///< frames the host dropped (checksum/length) or could not use
   std::uint32_t corrupted_by_host = 0;  ///< frames deliberately damaged (corrupt_every)
+  FaultCounts faults;                 ///< bytes dropped, garbled and duplicated on purpose (fault_rate)
+  /// The design, the start, a report request or a query the host sent again because its answer did not come.
+  std::uint32_t host_retries = 0;
   std::string console;                ///< what the firmware printed (semihosting)
   std::uint64_t recorded = 0;         ///< samples written to HilOptions::record
   bool recording_complete = false;    ///< every sample of the design's phases was recorded

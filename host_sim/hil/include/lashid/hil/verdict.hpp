@@ -22,6 +22,7 @@ enum class HilFailure : std::uint8_t {
   kDifferentFromHost,    ///< --compare-host: estimates or sample counts differ from the host board's
   kDamagedFramesMissed,  ///< --corrupt-every: a damaged frame was not detected and re-requested
   kDifferentFromRecording,  ///< --record: the on-device estimates differ from the float32 identification of the recording
+  kDifferentFromExpected,   ///< --expect-estimates: the estimates are not exactly those of the earlier run
 };
 
 constexpr const char* to_string(HilFailure f) {
@@ -34,6 +35,7 @@ constexpr const char* to_string(HilFailure f) {
     case HilFailure::kDifferentFromHost: return "different from the host build";
     case HilFailure::kDamagedFramesMissed: return "damaged frames not all detected";
     case HilFailure::kDifferentFromRecording: return "the on-device estimates differ from the recording's";
+    case HilFailure::kDifferentFromExpected: return "the estimates differ from the expected ones";
   }
   return "unknown failure";
 }

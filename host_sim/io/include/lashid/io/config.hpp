@@ -2,6 +2,7 @@
 // The format is specified in docs/data-format.md.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -57,6 +58,9 @@ struct ExperimentConfig {
   std::optional<int> pulse_length_a;         // N of the AP experiment (4.2)
   std::optional<int> val_length;             // samples of the validation phase (0: none)
   std::optional<std::uint32_t> val_seed;     // seed of the validation excitation
+  // The sensor's range [lo, hi] (key "sensor_range"): a value the device measures outside it is a bad sensor value,
+  // counted and never estimated from. nullopt: unlimited (only NaN and infinite values are bad).
+  std::optional<std::array<double, 2>> sensor_range;
   friend bool operator==(const ExperimentConfig&, const ExperimentConfig&) = default;
 };
 

@@ -1,0 +1,134 @@
+#include "qemu_process.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "lashid/hil/qemu_args.hpp"
+
+extern char** environ;
+
+namespace lashid::sim::detail {
+namespace {
+
+sockaddr_un socket_address(const std::string& path) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.size() >= sizeof(addr.sun_path)) throw std::runtime_error("hil: socket path too long: " + path);
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  return addr;
+}
+
+class UnixListener {
+ public:
+  explicit UnixListener(const std::filesystem::path& path) : path_(path) {
+    const sockaddr_un addr = socket_address(path.string());
+    fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd_ < 0) fail_errno("socket");
+    if (::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0) fail_errno("bind " + path.string());
+    if (::listen(fd_, 1) != 0) fail_errno("listen " + path.string());
+  }
+  ~UnixListener() {
+    if (fd_ >= 0) ::close(fd_);
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
+  UnixListener(const UnixListener&) = delete;
+  UnixListener& operator=(const UnixListener&) = delete;
+  int fd() const { return fd_; }
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
+
+int accept_with_timeout(int listener, int timeout_ms, const char* what) {
+  pollfd p{listener, POLLIN, 0};
+  if (::poll(&p, 1, timeout_ms) <= 0) {
+    throw std::runtime_error(fmt::format("hil: QEMU did not connect to the {} socket", what));
+  }
+  const int fd = ::accept4(listener, nullptr, nullptr, SOCK_CLOEXEC);
+  if (fd < 0) fail_errno(fmt::format("accept ({})", what));
+  return fd;
+}
+
+}  // namespace
+
+void fail_errno(const std::string& what) {
+  throw std::runtime_error(fmt::format("hil: {}: {}", what, std::strerror(errno)));
+}
+
+void write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    // send(MSG_NOSIGNAL), not write(): a closed peer is EPIPE here, not a SIGPIPE that kills the tool and leaves
+    // its temporary folder and a half-finished recording behind.
+    const ssize_t n = ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (errno == EPIPE || errno == ECONNRESET) {
+        throw std::runtime_error(fmt::format("hil: QEMU closed {} (the firmware or QEMU stopped)", what));
+      }
+      fail_errno(fmt::format("write to QEMU's {}", what));
+    }
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid_t& qemu, SessionFds& fds) {
+  UnixListener link_listener(dir / "link.sock");
+  UnixListener plant_listener(dir / "plant.sock");
+  QemuCommand command;
+  command.qemu = options.qemu;
+  command.machine = options.machine;
+  command.serials = {"unix:" + (dir / "link.sock").string(), "unix:" + (dir / "plant.sock").string()};
+  // Deterministic virtual time (1 instruction = 1 ns) only on request: QEMU then services the UARTs only between
+  // long runs of the vCPU, which makes every exchange slow.
+  command.icount = options.icount;
+  command.kernel = options.firmware;
+  std::vector<std::string> args = qemu_command_line(command);
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  int pipe_fds[2];
+  if (::pipe2(pipe_fds, O_CLOEXEC) != 0) fail_errno("pipe");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
+  qemu = -1;
+  const int spawn_error = ::posix_spawnp(&qemu, options.qemu.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(pipe_fds[1]);
+  fds.console = pipe_fds[0];
+  if (spawn_error != 0) {
+    qemu = -1;
+    errno = spawn_error;
+    fail_errno("cannot start " + options.qemu);
+  }
+  fds.link = accept_with_timeout(link_listener.fd(), 10000, "link (UART0)");
+  fds.plant = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
+}
+
+int connect_with_timeout(const std::string& path, int timeout_ms) {
+  const sockaddr_un addr = socket_address(path);
+  for (int waited = 0;; waited += 50) {
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) fail_errno("socket");
+    if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) == 0) return fd;
+    ::close(fd);
+    if (waited >= timeout_ms) fail_errno("cannot connect to " + path);
+    ::usleep(50'000);
+  }
+}
+
+}  // namespace lashid::sim::detail

@@ -1,0 +1,38 @@
+// Private to the hil layer: QEMU as a child process with its UARTs on Unix sockets, and the byte I/O on them. The
+// only POSIX process and socket code of the project.
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "lashid/hil/hil.hpp"
+
+namespace lashid::sim::detail {
+
+/// The descriptors of a session: UART0 (link), UART1 (plant port), QEMU's console (semihosting, a pipe). -1: closed.
+struct SessionFds {
+  int link = -1;
+  int plant = -1;
+  int console = -1;
+};
+
+/// Throws std::runtime_error "hil: WHAT: strerror(errno)".
+[[noreturn]] void fail_errno(const std::string& what);
+
+/// Writes every byte to a socket. A peer that has closed it (QEMU exited or was killed) is an error naming `what`,
+/// never a SIGPIPE.
+void write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what);
+
+/// Starts QEMU with options.firmware, UART0 and UART1 on two sockets in `dir` that the host listens on, and its
+/// console on a pipe. Sets `qemu` to its pid as soon as it runs (also when connecting then fails, for the caller
+/// to kill it) and fills the descriptors.
+void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid_t& qemu, SessionFds& fds);
+
+/// Connects to a socket of a QEMU started by the user, retrying for up to timeout_ms.
+int connect_with_timeout(const std::string& path, int timeout_ms);
+
+}  // namespace lashid::sim::detail

@@ -1,0 +1,404 @@
+#include "session.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "lashid/firmware/messages.hpp"
+#include "lashid/hal/link_protocol.hpp"
+#include "lashid/hil/link_faults.hpp"
+#include "reports.hpp"
+
+namespace lashid::sim::detail {
+namespace {
+
+namespace link = hal::link;
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+
+/// How long the host waits for the answer to a query, the design, the start or a report request before sending it
+/// again. A clean exchange takes a few ms; a lost frame costs this much.
+constexpr milliseconds kAnswerWait{250};
+/// Silence on both UARTs after which the host asks the firmware where it is (its kDone may have been lost).
+constexpr milliseconds kSilenceBeforeQuery{500};
+/// QEMU silent for this long when the time limit comes: reported as having stopped answering.
+constexpr std::chrono::seconds kStalled{2};
+/// A frame under way on the plant port lost a byte when, after a silence this long, a new frame starts (the
+/// firmware writes a request in one go, and repeats a lost one after 10 ms). A frame QEMU delivers in two parts
+/// does not start its second part with the sync bytes.
+constexpr milliseconds kPlantFrameGap{5};
+
+std::vector<std::uint8_t> frame(link::MessageType type, const link::PayloadWriter& w) {
+  std::vector<std::uint8_t> out(link::kMaxFrame);
+  out.resize(link::encode_frame(type, 0, w.data(), w.size(), out.data()));
+  return out;
+}
+
+std::vector<std::uint8_t> command(link::Command c, std::optional<std::uint8_t> argument = std::nullopt) {
+  link::PayloadWriter w;
+  w.u8(static_cast<std::uint8_t>(c));
+  if (argument) w.u8(*argument);
+  return frame(link::MessageType::kCommand, w);
+}
+
+// One direction of one UART: the bytes as they cross, through ByteFaults when a fault rate is set.
+class Line {
+ public:
+  Line(const HilOptions& options, std::uint64_t stream) {
+    if (options.fault_rate > 0) faults_.emplace(options.fault_rate, options.fault_seed, stream);
+  }
+  std::vector<std::uint8_t> pass(const std::uint8_t* data, std::size_t size) {
+    if (!faults_) return {data, data + size};
+    std::vector<std::uint8_t> out;
+    faults_->pass(data, size, out);
+    return out;
+  }
+  FaultCounts counts() const { return faults_ ? faults_->counts() : FaultCounts{}; }
+
+ private:
+  std::optional<ByteFaults> faults_;
+};
+
+// The host's side of the plant port: answers kActuate(t, v) with kMeasurement(t, y), stepping the plant once per t
+// and recording each t once (retries are answered from the cache, not recorded again).
+class PlantPeer {
+ public:
+  PlantPeer(AnyPlant plant, RunRecorder* recorder, int corrupt_every, HilResult& result)
+      : plant_(std::move(plant)), recorder_(recorder), corrupt_every_(corrupt_every), result_(result) {}
+
+  /// After a silence: a frame cut short is dropped (counted), not completed with the next request's bytes.
+  void silence() {
+    if (decoder_.abandon_partial()) ++result_.protocol_errors;
+  }
+
+  // Returns the bytes to send back for the received bytes.
+  std::vector<std::uint8_t> receive(const std::vector<std::uint8_t>& bytes) {
+    std::vector<std::uint8_t> reply;
+    for (const std::uint8_t byte : bytes) {
+      const auto r = decoder_.push(byte);
+      if (r == link::FrameDecoder::Result::kDropped) ++result_.protocol_errors;
+      if (r != link::FrameDecoder::Result::kFrame) continue;
+      const link::Frame& f = decoder_.frame();
+      auto reader = f.reader();
+      const std::uint32_t t = reader.u32();
+      const float v = reader.f32();
+      if (f.type != link::MessageType::kActuate || !reader.ok() || !reader.at_end()) {
+        ++result_.protocol_errors;
+        continue;
+      }
+      if (t == next_t_) {  // a new sample: step the plant (the command as the firmware sent it, a float)
+        last_y_ = static_cast<float>(plant_.step(static_cast<double>(v)));
+        if (recorder_ != nullptr) recorder_->sample(t, v, last_y_);
+        ++next_t_;
+        ++result_.samples;
+      } else if (next_t_ > 0 && t == next_t_ - 1) {  // a repeat after a lost/damaged answer: same y
+        ++result_.repeated_requests;
+      } else {
+        ++result_.protocol_errors;
+        continue;
+      }
+      link::PayloadWriter w;
+      w.u32(t);
+      w.f32(last_y_);
+      auto out = frame(link::MessageType::kMeasurement, w);
+      if (corrupt_every_ > 0 && ++answers_ % static_cast<std::uint32_t>(corrupt_every_) == 0) {
+        out[7] ^= 0x04;  // one bit of y: the firmware must reject it by the checksum
+        ++result_.corrupted_by_host;
+      }
+      reply.insert(reply.end(), out.begin(), out.end());
+    }
+    return reply;
+  }
+
+ private:
+  AnyPlant plant_;
+  RunRecorder* recorder_;
+  int corrupt_every_;
+  HilResult& result_;
+  link::FrameDecoder decoder_;
+  std::uint32_t next_t_ = 0;
+  std::uint32_t answers_ = 0;
+  float last_y_ = 0;
+};
+
+class Session {
+ public:
+  Session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, const fw::RunDesign& design, pid_t& qemu,
+          SessionFds& fds, HilResult& result)
+      : options_(options),
+        design_(design),
+        qemu_(qemu),
+        fds_(fds),
+        result_(result),
+        peer_(std::move(plant), recorder, options.corrupt_every, result) {}
+
+  void run() {
+    const auto start = Clock::now();
+    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(options_.timeout_seconds));
+    last_heard_ = start;
+    send_link(command(link::Command::kQuery));
+    sent_at_ = start;
+    for (;;) {
+      const auto now = Clock::now();
+      if (now > deadline) throw std::runtime_error(timeout_message(now));
+      poll_once();
+      if (qemu_ > 0 && exited()) return;
+      if (act(Clock::now())) return;
+    }
+  }
+
+ private:
+  enum class Step { kQuery, kDesign, kStart, kRun, kReports, kFinish };
+
+  void send_link(const std::vector<std::uint8_t>& bytes) {
+    if (fds_.link < 0) return;
+    // Whatever the host sends asks for an answer: a report cut short before it must not swallow the answer's start.
+    if (link_decoder_.abandon_partial()) ++result_.protocol_errors;
+    const auto out = to_link_.pass(bytes.data(), bytes.size());
+    write_all(fds_.link, out, "the link (UART0)");
+  }
+
+  // Sends `bytes` again if the answer has not come within kAnswerWait (counted as a host retry).
+  void resend_if_due(Clock::time_point now, const std::vector<std::uint8_t>& bytes) {
+    if (now - sent_at_ < kAnswerWait) return;
+    send_link(bytes);
+    sent_at_ = now;
+    ++sends_;
+    ++result_.host_retries;
+  }
+
+  void enter(Step step, const std::vector<std::uint8_t>& first, Clock::time_point now) {
+    step_ = step;
+    send_link(first);
+    sent_at_ = now;
+    sends_ = first.empty() ? 0 : 1;
+  }
+
+  std::vector<std::uint8_t> design_frame() const {
+    link::PayloadWriter w;
+    design_.encode(w);
+    return frame(link::MessageType::kDesign, w);
+  }
+
+  bool firmware_running() const {
+    return stage_ != fw::Stage::kIdle || result_.samples > 0 || result_.repeated_requests > 0 || result_.done >= 0;
+  }
+
+  bool reports_complete() const {
+    bool dis = false, ais = false;
+    for (const fw::EstimateRecord& e : result_.estimates) (e.scheme == est::Scheme::kDescending ? dis : ais) = true;
+    return result_.done >= 0 && dis && ais && result_.cross_check && result_.cost;
+  }
+
+  // The protocol's next step, by what has arrived and how long ago it was asked for. True: the session is over.
+  bool act(Clock::time_point now) {
+    switch (step_) {
+      case Step::kQuery:
+        if (stage_seen_) {
+          enter(Step::kDesign, design_frame(), now);
+        } else if (now - sent_at_ >= milliseconds(100)) {  // the UART may not be enabled yet: not a retry
+          send_link(command(link::Command::kQuery));
+          sent_at_ = now;
+          ++sends_;
+        }
+        return false;
+      case Step::kDesign:
+        if (result_.design_status == 0) {
+          enter(Step::kStart, command(link::Command::kStart, link::kStartHoldReports), now);
+        } else if (result_.design_status > 0) {
+          step_ = Step::kRun;  // refused: the firmware reports and ends the run without starting
+        } else {
+          resend_if_due(now, design_frame());
+        }
+        return false;
+      case Step::kStart:
+        if (firmware_running()) {
+          step_ = Step::kRun;
+        } else {
+          resend_if_due(now, command(link::Command::kStart, link::kStartHoldReports));
+        }
+        return false;
+      case Step::kRun:
+        if (result_.done >= 0 || stage_ == fw::Stage::kDone) {
+          enter(Step::kReports, {}, now - kAnswerWait);  // ask at once for what is missing
+        } else if (now - last_heard_ >= kSilenceBeforeQuery && now - sent_at_ >= kSilenceBeforeQuery) {
+          send_link(command(link::Command::kQuery));  // the firmware's kDone may be lost: where is it?
+          sent_at_ = now;
+        }
+        return false;
+      case Step::kReports:
+        if (reports_complete()) {
+          enter(Step::kFinish, command(link::Command::kFinish), now);
+          return qemu_ <= 0;  // attached: QEMU is the user's, the session ends here
+        }
+        resend_if_due(now, command(link::Command::kReport));
+        return false;
+      case Step::kFinish:
+        if (now - sent_at_ >= kAnswerWait) {  // kFinish lost: QEMU has not exited
+          send_link(command(link::Command::kFinish));
+          sent_at_ = now;
+        }
+        return false;
+    }
+    return false;
+  }
+
+  void on_link_bytes(const std::uint8_t* data, std::size_t size) {
+    for (const std::uint8_t byte : from_link_.pass(data, size)) {
+      const auto r = link_decoder_.push(byte);
+      if (r == link::FrameDecoder::Result::kDropped) ++result_.protocol_errors;
+      if (r != link::FrameDecoder::Result::kFrame) continue;
+      const link::Frame& f = link_decoder_.frame();
+      collect(f, result_);
+      if (f.type != link::MessageType::kStatus) continue;
+      auto reader = f.reader();
+      const auto stage = static_cast<fw::Stage>(reader.u8());
+      const std::uint32_t samples = reader.u32();
+      if (!reader.ok()) continue;
+      stage_seen_ = true;
+      if (stage != stage_ && options_.on_progress) options_.on_progress(stage, samples);
+      stage_ = stage;
+    }
+  }
+
+  void on_plant_bytes(const std::uint8_t* data, std::size_t size) {
+    const auto now = Clock::now();
+    const bool new_frame = size >= 2 && data[0] == link::kSync0 && data[1] == link::kSync1;
+    if (new_frame && now - last_plant_byte_ > kPlantFrameGap) peer_.silence();
+    last_plant_byte_ = now;
+    const auto reply = peer_.receive(from_plant_.pass(data, size));
+    if (reply.empty() || fds_.plant < 0) return;
+    write_all(fds_.plant, to_plant_.pass(reply.data(), reply.size()), "the plant port (UART1)");
+  }
+
+  void poll_once() {
+    pollfd fds[3] = {{fds_.link, POLLIN, 0}, {fds_.plant, POLLIN, 0}, {fds_.console, POLLIN, 0}};
+    if (::poll(fds, 3, 20) < 0 && errno != EINTR) fail_errno("poll");
+    std::uint8_t buffer[4096];
+    for (int k = 0; k < 3; ++k) {
+      if (fds[k].fd < 0 || (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) == 0) continue;
+      int& fd = k == 0 ? fds_.link : k == 1 ? fds_.plant : fds_.console;
+      const ssize_t n = ::read(fd, buffer, sizeof(buffer));
+      if (n <= 0) {
+        ::close(fd);
+        fd = -1;
+        if (qemu_ <= 0 && k < 2 && !reports_complete()) {
+          throw std::runtime_error("hil: QEMU closed a UART before the run ended");
+        }
+        continue;
+      }
+      last_heard_ = Clock::now();
+      const auto size = static_cast<std::size_t>(n);
+      if (k == 0) {
+        on_link_bytes(buffer, size);
+      } else if (k == 1) {
+        on_plant_bytes(buffer, size);
+      } else {
+        result_.console.append(reinterpret_cast<const char*>(buffer), size);
+      }
+    }
+  }
+
+  // Whether QEMU has exited; then drains what it wrote before and fills the fault counts.
+  bool exited() {
+    int status = 0;
+    if (::waitpid(qemu_, &status, WNOHANG) != qemu_) return false;
+    qemu_ = -1;
+    result_.qemu_exit = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::uint8_t buffer[4096];
+    for (int* fd : {&fds_.link, &fds_.console}) {
+      if (*fd < 0) continue;
+      ::fcntl(*fd, F_SETFL, O_NONBLOCK);
+      for (ssize_t n = 0; (n = ::read(*fd, buffer, sizeof(buffer))) > 0;) {
+        if (fd == &fds_.link) {
+          on_link_bytes(buffer, static_cast<std::size_t>(n));
+        } else {
+          result_.console.append(reinterpret_cast<const char*>(buffer), static_cast<std::size_t>(n));
+        }
+      }
+    }
+    return true;
+  }
+
+  // What the host was waiting for when the time ran out. The firmware only answers before and after its run, so a
+  // silence means QEMU stopped only while the plant is being played (or when its process is stopped).
+  std::string timeout_message(Clock::time_point now) const {
+    const double silent = std::chrono::duration<double>(now - last_heard_).count();
+    const bool stopped = qemu_ > 0 && process_stopped(qemu_);
+    std::string why;
+    if (stopped || (step_ == Step::kRun && silent >= std::chrono::duration<double>(kStalled).count())) {
+      why = fmt::format("QEMU stopped answering: nothing on its UARTs or console for {:.1f} s{}", silent,
+                        stopped ? " (its process is stopped)" : "");
+    } else {
+      switch (step_) {
+        case Step::kQuery: why = fmt::format("the firmware never answered a query on the link (sent {} times)", sends_);
+          break;
+        case Step::kDesign: why = fmt::format("the firmware has not acknowledged the design (sent {} times)", sends_);
+          break;
+        case Step::kStart: why = fmt::format("the firmware has not started (start sent {} times)", sends_); break;
+        case Step::kRun: why = "the run goes on, too slowly for the limit"; break;
+        case Step::kReports: why = fmt::format("reports still missing after asking {} times", sends_); break;
+        case Step::kFinish: why = "QEMU has not exited after the host had every report"; break;
+      }
+      if (options_.fault_rate > 0 && step_ != Step::kFinish) why += ": the link loses too many frames";
+    }
+    return fmt::format("hil: no end after {} s ({} samples exchanged): {}", options_.timeout_seconds,
+                       result_.samples, why);
+  }
+
+  // Linux: whether the process is stopped (SIGSTOP, a debugger): state T or t in /proc/PID/stat.
+  static bool process_stopped(pid_t pid) {
+    std::ifstream stat(fmt::format("/proc/{}/stat", pid));
+    std::string line;
+    if (!std::getline(stat, line)) return false;
+    const auto close = line.rfind(')');  // the command name may hold spaces and parentheses
+    return close != std::string::npos && close + 2 < line.size() &&
+           (line[close + 2] == 'T' || line[close + 2] == 't');
+  }
+
+ public:
+  ~Session() {
+    for (const Line* line : {&to_link_, &from_link_, &to_plant_, &from_plant_}) result_.faults += line->counts();
+  }
+
+ private:
+  const HilOptions& options_;
+  const fw::RunDesign& design_;
+  pid_t& qemu_;
+  SessionFds& fds_;
+  HilResult& result_;
+  PlantPeer peer_;
+  link::FrameDecoder link_decoder_;
+  // Each direction of each UART has its own draws: the faults of one do not depend on the traffic of another.
+  Line to_link_{options_, 0}, from_link_{options_, 1}, to_plant_{options_, 2}, from_plant_{options_, 3};
+  Step step_ = Step::kQuery;
+  int sends_ = 1;  // times the current step's request was sent
+  bool stage_seen_ = false;
+  fw::Stage stage_ = fw::Stage::kIdle;
+  Clock::time_point sent_at_{};
+  Clock::time_point last_heard_{};
+  Clock::time_point last_plant_byte_{};
+};
+
+}  // namespace
+
+void run_session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, const fw::RunDesign& design,
+                 pid_t& qemu, SessionFds& fds, HilResult& result) {
+  Session session(options, std::move(plant), recorder, design, qemu, fds, result);
+  session.run();
+}
+
+}  // namespace lashid::sim::detail

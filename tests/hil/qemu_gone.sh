@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# QEMU gone in the middle of a run: stopped (SIGSTOP: it stalls, the sockets stay open) or killed (SIGKILL). `lashid
+# hil` must say so, exit non-zero within its time limit, and keep what was measured in --record (marked partial).
+# Usage: qemu_gone.sh LASHID FIRMWARE
+set -euo pipefail
+lashid=$1 firmware=$2
+dir=$(mktemp -d)
+hil_pid=
+cleanup() {
+  [[ -n "${hil_pid}" ]] && kill -KILL "${hil_pid}" 2>/dev/null || true
+  rm -rf "${dir}"
+}
+trap cleanup EXIT
+
+# Starts hil in the background, waits until the firmware has entered its DP pulse experiment (over 2,000 samples
+# measured, printed by hil as progress), then sends SIGNAL to its QEMU.
+run_and_signal() {
+  local signal=$1 timeout=$2 out=$3 record=$4
+  "${lashid}" hil --firmware "${firmware}" --scenario dis_paper --seed 11 --timeout "${timeout}" --record "${record}" \
+    >"${out}" 2>&1 &
+  hil_pid=$!
+  local qemu=
+  for _ in $(seq 1 1200); do
+    qemu=$(pgrep -P "${hil_pid}" -f qemu-system-arm || true)
+    if [[ -n "${qemu}" ]] && grep -q 'DP pulse experiment' "${out}"; then break; fi
+    sleep 0.1
+  done
+  [[ -n "${qemu}" ]] || { echo "qemu_gone: QEMU did not start" >&2; cat "${out}"; exit 1; }
+  kill "-${signal}" "${qemu}"
+  local status=0
+  wait "${hil_pid}" || status=$?
+  hil_pid=
+  cat "${out}" | grep -v '^    '
+  test "${status}" -ne 0
+}
+
+start=${SECONDS}
+run_and_signal STOP 15 "${dir}/stopped.txt" "${dir}/stopped.csv"
+elapsed=$((SECONDS - start))
+echo "qemu_gone: stopped QEMU reported after ${elapsed} s"
+test "${elapsed}" -le 30
+grep -q 'QEMU stopped answering' "${dir}/stopped.txt"
+grep -q 'marked partial' "${dir}/stopped.txt"
+grep -q '^# partial recording' "${dir}/stopped.csv"
+
+run_and_signal KILL 120 "${dir}/killed.txt" "${dir}/killed.csv"
+grep -q 'QEMU was killed by signal 9' "${dir}/killed.txt"
+grep -q 'verdict: FAIL' "${dir}/killed.txt"
+grep -q '^# partial recording' "${dir}/killed.csv"
