@@ -1,5 +1,6 @@
 // Experiment config JSON: validation errors name file, key and index; writing round-trips exactly; a
 // recording is checked against the config it is used with.
+#include <array>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -184,7 +185,7 @@ TEST_F(ConfigFiles, WriteThenReadRoundTripsExactly) {
   // n = 3, m = 2: T = 3 (2 + 3) = 15, so 30 is the shortest pulse experiment; L = 4 = n + 1 the shortest step.
   ExperimentConfig config{3, 2, -0.1, 1.0 / 3.0, {-0.1, 0.2}, {1.0 / 3.0, 0.0}, OperatorKind::kSwitch, Truth{},
                           /*step_length=*/4, /*pulse_length_d=*/30, /*pulse_length_a=*/31, /*val_length=*/0,
-                          /*val_seed=*/4294967295U};
+                          /*val_seed=*/4294967295U, /*sensor_range=*/std::array<double, 2>{-1e30, 0.1}};
   config.truth->a = {0.1, -2.0 / 7.0, 1e-17};
   config.truth->F_d = {std::nextafter(1.0, 2.0), -5e-324};
   config.truth->ybar0_d = 26.37;
