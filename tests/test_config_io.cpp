@@ -278,6 +278,27 @@ TEST(ConfigRecordingMatch, RejectsTooShortPhases) {
                        "rec.csv: phase 'dis' has 35 samples; at least 2*max(n,2)*(m+3) = 36 are needed (two periods"));
 }
 
+TEST(ConfigParse, DeepNestingIsRefusedWhileParsing) {
+  // Found by hand (issue 14): 100,000 nested arrays crashed the reader, 50,000 nested objects took 2.5 GB.
+  const std::string arrays = "{\"n\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  EXPECT_EQ(error_of([&] { parse_config_json(arrays, kSource); }),
+            "cfg.json: JSON nested deeper than 64 levels of objects and arrays; the project's files need a few");
+  std::string objects = "{\"truth\": ";
+  for (int i = 0; i < 50000; ++i) objects += "{\"a\": ";
+  objects += "1" + std::string(50001, '}');
+  EXPECT_TRUE(Contains(error_of([&] { parse_config_json(objects, kSource); }), "nested deeper than 64 levels"));
+}
+
+TEST(ConfigParse, AnEchoedValueIsCut) {
+  json document = json::parse(R"({"m": 6, "v_min": -3, "v_max": 4, "operator": "switch"})");
+  document["n"] = json::array();
+  for (int i = 0; i < 100000; ++i) document["n"].push_back(i);
+  const std::string message = config_error(document);
+  EXPECT_TRUE(Contains(message, "'n' must be an integer, got [0,1,2,3"));
+  EXPECT_TRUE(Contains(message, "..."));
+  EXPECT_LT(message.size(), 150u);
+}
+
 }  // namespace
 }  // namespace lashid::sim
 

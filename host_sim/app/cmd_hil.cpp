@@ -17,7 +17,7 @@
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/data_error.hpp"
-#include "lashid/io/files.hpp"
+#include "lashid/io/json.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/io/recording.hpp"
 #include "lashid/report/json.hpp"
@@ -92,12 +92,7 @@ std::vector<fw::EstimateRecord> identify_recording(const ExperimentConfig& confi
 
 // The estimates of an earlier run's --json ("dis" and "ais": a, b, F, status), as records to compare with.
 std::vector<fw::EstimateRecord> read_expected_estimates(const std::string& path) {
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(read_file_text(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw DataError(path, fmt::format("not the JSON of a `lashid hil --json` run: {}", e.what()));
-  }
+  const nlohmann::json document = read_json_file(path);
   std::vector<fw::EstimateRecord> out;
   for (const auto& [key, scheme] : {std::pair{"dis", est::Scheme::kDescending}, {"ais", est::Scheme::kAscending}}) {
     if (!document.is_object() || !document.contains(key)) continue;

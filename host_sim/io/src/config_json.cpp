@@ -80,7 +80,7 @@ class ConfigReader : detail::JsonFieldReader {
 
   int read_int(const json& object, std::string_view key, int min, int max) const {
     const json& value = required(object, key);
-    if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, value.dump()));
+    if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, detail::shown(value)));
     // Unsigned JSON integers may exceed int64; clamp them to a value that is out of range anyway.
     const std::int64_t number =
         value.is_number_unsigned()
@@ -100,13 +100,13 @@ class ConfigReader : detail::JsonFieldReader {
     const auto found = object.find(key);
     if (found == object.end()) return std::nullopt;
     const json& value = *found;
-    if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, value.dump()));
+    if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, detail::shown(value)));
     const bool too_large = value.is_number_unsigned() ? value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)
                                                       : value.get<std::int64_t>() > static_cast<std::int64_t>(max);
-    if (too_large) fail(fmt::format("'{}' = {} is too large (at most {})", key, value.dump(), max));
+    if (too_large) fail(fmt::format("'{}' = {} is too large (at most {})", key, detail::shown(value), max));
     // Not too large, so within int64 whether nlohmann stored it signed or unsigned.
     const auto number = value.get<std::int64_t>();
-    if (number < min) fail(fmt::format("'{}' = {} {}", key, value.dump(), rule));
+    if (number < min) fail(fmt::format("'{}' = {} {}", key, detail::shown(value), rule));
     return static_cast<Int>(number);
   }
 
@@ -249,6 +249,10 @@ nlohmann::json to_json(const ExperimentConfig& config) {
     document["truth"] = std::move(truth_document);
   }
   return document;
+}
+
+nlohmann::json read_json_file(const std::filesystem::path& path) {
+  return detail::parse_json_document(read_file_text(path), path.string());
 }
 
 void write_json_file(const std::filesystem::path& path, const nlohmann::json& document) {

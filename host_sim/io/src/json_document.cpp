@@ -29,9 +29,17 @@ struct JsonKeyTracker {
 };
 
 // nlohmann keeps the last of duplicate keys silently; a repeated key is as likely a mistake as a
-// typo, so the parse callback reports it.
+// typo, so the parse callback reports it. It also stops a document nested deeper than kMaxJsonDepth as soon as the
+// parser gets there: the project's files are a few levels deep, while 100,000 nested arrays crashed the reader
+// (recursion in what handles the value afterwards) and 50,000 nested objects took 2.5 GB.
 json::parser_callback_t duplicate_key_detector(JsonKeyTracker& tracker, std::string_view source_name) {
-  return [&tracker, source_name](int /*depth*/, json::parse_event_t event, json& parsed) {
+  return [&tracker, source_name](int depth, json::parse_event_t event, json& parsed) {
+    if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+        depth >= kMaxJsonDepth) {
+      throw DataError(source_name, fmt::format("JSON nested deeper than {} levels of objects and arrays; the "
+                                               "project's files need a few",
+                                               kMaxJsonDepth));
+    }
     switch (event) {
       case json::parse_event_t::object_start:
         tracker.objects.push_back({tracker.objects.empty() ? std::string() : tracker.last_key_path, {}});
@@ -62,6 +70,13 @@ std::size_t line_of_byte(std::string_view text, std::size_t byte_position) {
 
 }  // namespace
 
+std::string shown(const nlohmann::json& value) {
+  constexpr std::size_t kLongest = 60;
+  std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
+  if (text.size() > kLongest) text = text.substr(0, kLongest - 3) + "...";
+  return text;
+}
+
 std::string_view without_exception_id(std::string_view message) {
   if (message.starts_with("[json.exception.")) {
     if (const std::size_t end = message.find("] "); end != std::string_view::npos) message.remove_prefix(end + 2);
@@ -86,7 +101,7 @@ json parse_json_document(std::string_view text, std::string_view source_name) {
 void JsonFieldReader::fail(std::string_view message) const { throw DataError(source_name_, message); }
 
 double JsonFieldReader::read_finite(const nlohmann::json& value, std::string_view key) const {
-  if (!value.is_number()) fail(fmt::format("'{}' must be a number, got {}", key, value.dump()));
+  if (!value.is_number()) fail(fmt::format("'{}' must be a number, got {}", key, shown(value)));
   const auto number = value.get<double>();
   if (!std::isfinite(number)) fail(fmt::format("'{}' must be a finite number", key));
   return number;
@@ -105,7 +120,7 @@ std::vector<double> JsonFieldReader::read_numbers(const nlohmann::json& value, s
 OperatorKind JsonFieldReader::read_operator(const nlohmann::json& value) const {
   if (value == "switch") return OperatorKind::kSwitch;
   if (value == "backlash") return OperatorKind::kBacklash;
-  fail(fmt::format("'operator' must be \"switch\" or \"backlash\", got {}", value.dump()));
+  fail(fmt::format("'operator' must be \"switch\" or \"backlash\", got {}", shown(value)));
 }
 
 }  // namespace lashid::sim::detail

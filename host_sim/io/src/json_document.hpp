@@ -17,6 +17,13 @@ namespace lashid::sim::detail {
 // for a value the parser refuses without a position (a number like 1e999).
 nlohmann::json parse_json_document(std::string_view text, std::string_view source_name);
 
+/// Deeper nesting of objects and arrays is refused while parsing (DataError), before it costs memory or stack.
+inline constexpr int kMaxJsonDepth = 64;
+
+// A value as an error message quotes it: its JSON text, cut to 60 characters ("...") so that a large value (an
+// array of a million numbers where one was expected) does not flood the terminal.
+std::string shown(const nlohmann::json& value);
+
 // nlohmann's message without its "[json.exception.parse_error.101] " prefix, which means nothing to a user.
 std::string_view without_exception_id(std::string_view message);
 

@@ -161,7 +161,7 @@ class PlantReader : detail::JsonFieldReader {
   int read_dead_time(const json& value) const {
     // 2.0 is refused like 2.5: a delay counts samples, and the config's integers are read the same way.
     if (!value.is_number_integer() || (!value.is_number_unsigned() && value.get<std::int64_t>() < 0)) {
-      fail(fmt::format("'dead_time' must be a non-negative integer (samples), got {}", value.dump()));
+      fail(fmt::format("'dead_time' must be a non-negative integer (samples), got {}", detail::shown(value)));
     }
     const auto delay = value.get<std::uint64_t>();
     if (delay > static_cast<std::uint64_t>(kMaxDeadTime)) {

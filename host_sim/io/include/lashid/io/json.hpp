@@ -14,6 +14,10 @@ namespace lashid::sim {
 // The JSON form read by parse_config_json (absent V_d / V_a / truth fields are omitted).
 nlohmann::json to_json(const ExperimentConfig& config);
 
+// Reads a JSON file as the config and plant readers do: a DataError naming the file (and the line where the parser
+// knows it) for invalid JSON, a duplicate key, or nesting deeper than 64 levels.
+nlohmann::json read_json_file(const std::filesystem::path& path);
+
 // Writes `document` pretty-printed (indent 2) with a trailing newline, replacing `path` atomically.
 void write_json_file(const std::filesystem::path& path, const nlohmann::json& document);
 
