@@ -371,4 +371,17 @@ TEST_F(Cli, NoCommandWritesOverItsOwnInputOrAnotherOutput) {
   EXPECT_EQ(run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"}).exit_code, 0);
 }
 
+TEST_F(Cli, AFailedRecordingPutsBackTheConfigThatWasThere) {
+  // Found by hand (issue 14): simulate wrote --config-out, then the recording failed, and the config that had been
+  // there was deleted. A file name whose temporary sibling is too long for the file system makes the second write
+  // fail after the first succeeded.
+  std::ofstream(work_ / "keep.json") << "{\"mine\": true}\n";
+  const std::string long_name = std::string(240, 'r') + ".csv";
+  const Outcome r = run({"simulate", "--scenario", "dis_paper", "--out", long_name, "--config-out", "keep.json"});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(Contains(r.err, "cannot create temporary file")) << r;
+  EXPECT_EQ(slurp(work_ / "keep.json"), "{\"mine\": true}\n");
+  EXPECT_FALSE(fs::exists(work_ / long_name));
+}
+
 }  // namespace

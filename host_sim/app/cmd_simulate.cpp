@@ -1,6 +1,8 @@
 // `lashid scenarios` and `lashid simulate`: the built-in plants and plant files, and recordings of them.
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -59,9 +61,12 @@ int run_simulate(const SimulateArgs& args) {
       fmt::format("noise variance {}, input lag lambda {}", scenario.noise_variance, args.input_lag)};
   // Nothing half-written: both destinations are checked before either is written, and if the recording still
   // fails (e.g. a full disk), the config just written is removed again.
+  // A config that existed before is put back as it was (not deleted: it may be the user's only copy).
   check_can_write(args.data_out);
   if (!args.config_out.empty()) check_can_write(args.config_out);
+  std::optional<std::string> previous_config;
   if (!args.config_out.empty()) {
+    if (std::filesystem::is_regular_file(args.config_out)) previous_config = read_file_text(args.config_out);
     ExperimentConfig config = config_with_lengths(scenario);
     if (args.input_lag != 0) config.truth.reset();  // the truth of the nominal plant no longer applies
     write_json_file(args.config_out, to_json(config));
@@ -69,7 +74,11 @@ int run_simulate(const SimulateArgs& args) {
   try {
     write_recording_csv(args.data_out, rec, comments);
   } catch (...) {
-    if (!args.config_out.empty()) std::filesystem::remove(args.config_out);
+    if (previous_config) {
+      write_file_atomically(args.config_out, *previous_config);
+    } else if (!args.config_out.empty()) {
+      std::filesystem::remove(args.config_out);
+    }
     throw;
   }
   fmt::print("wrote {} ({} samples){}\n", args.data_out, rec.size(),

@@ -13,9 +13,9 @@ namespace {
 
 std::vector<double> flatten(const fw::EstimateRecord& e) {
   std::vector<double> x;
-  for (int i = 0; i < e.n; ++i) x.push_back(e.a[static_cast<std::size_t>(i)]);
-  for (int i = 0; i < e.n; ++i) x.push_back(e.b[static_cast<std::size_t>(i)]);
-  for (int j = 0; j < e.m; ++j) x.push_back(e.F[static_cast<std::size_t>(j)]);
+  for (int i = 0; i < e.n; ++i) x.push_back(static_cast<double>(e.a[static_cast<std::size_t>(i)]));
+  for (int i = 0; i < e.n; ++i) x.push_back(static_cast<double>(e.b[static_cast<std::size_t>(i)]));
+  for (int j = 0; j < e.m; ++j) x.push_back(static_cast<double>(e.F[static_cast<std::size_t>(j)]));
   return x;
 }
 

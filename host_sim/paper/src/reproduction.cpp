@@ -1,6 +1,7 @@
 #include "lashid/paper/reproduction.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace lashid::sim {
@@ -65,7 +66,7 @@ MonteCarloSummary monte_carlo(const Scenario& scenario, est::Scheme scheme, int 
     if (keep_results) out.results.push_back(res);
     if (res.status != est::Status::kOk) {
       ++out.failures;
-      out.relative_errors.push_back(INFINITY);
+      out.relative_errors.push_back(std::numeric_limits<double>::infinity());
       continue;
     }
     ++ok_runs;
