@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
@@ -49,7 +50,7 @@ TEST(GaussianNoise, ZeroVarianceIsSilentAndNegativeThrows) {
   GaussianNoise silent(0.0, 7);
   for (int i = 0; i < 10; ++i) EXPECT_EQ(silent.next(), 0.0);
   EXPECT_THROW(GaussianNoise(-1.0, 7), std::invalid_argument);
-  EXPECT_THROW(GaussianNoise(NAN, 7), std::invalid_argument);
+  EXPECT_THROW(GaussianNoise(std::numeric_limits<double>::quiet_NaN(), 7), std::invalid_argument);
 }
 
 std::vector<double> impulse_response(const LinearModel& model, int length) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -321,7 +322,7 @@ TEST(BacklashOperator, CloneCarriesTheState) {
 
 TEST(BacklashOperator, NanInputThrows) {
   BacklashOperator op(play_ascending(), play_descending());
-  EXPECT_THROW(op.step(NAN), std::invalid_argument);
+  EXPECT_THROW(op.step(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
 
 // ----------------------------------------------------------------------------------- input-side wrappers

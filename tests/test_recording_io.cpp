@@ -328,6 +328,18 @@ TEST_F(RecordingFiles, ANonRegularTargetIsRefusedAndKept) {
   EXPECT_EQ(entries_in_dir(), 1U);
 }
 
+// Found by hand (issue 14): the rename replaced a symbolic link by a plain file and left its target unchanged.
+TEST_F(RecordingFiles, ASymbolicLinkIsWrittenThroughAndStaysALink) {
+  const fs::path target = dir_ / "target.txt";
+  const fs::path link = dir_ / "link.txt";
+  write_file_atomically(target, "old\n");
+  fs::create_symlink(target, link);
+  write_file_atomically(link, "new\n");
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(read_file_text(target), "new\n");
+  EXPECT_EQ(entries_in_dir(), 2U);  // no temporary left behind
+}
+
 TEST_F(RecordingFiles, WriteFileAtomicallyRejectsDirectoryPath) {
   EXPECT_TRUE(Contains(error_of([&] { write_file_atomically(dir_ / "", "x"); }), "names a directory, not a file"));
 }

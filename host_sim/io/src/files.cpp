@@ -73,7 +73,12 @@ void write_file_atomically(const fs::path& path, std::string_view content) {
 
 AtomicFileWriter::AtomicFileWriter(const fs::path& path) : path_(path) {
   check_can_write(path);
-  temporary_ = temporary_sibling(path);
+  // A symbolic link is written through: its target is replaced, the link stays a link (renaming onto the link
+  // itself would turn it into a plain file and leave the file it pointed to unchanged).
+  std::error_code ignored;
+  target_ = fs::is_symlink(path, ignored) ? fs::weakly_canonical(path, ignored) : path;
+  if (target_.empty()) target_ = path;
+  temporary_ = temporary_sibling(target_);
   out_.open(temporary_, std::ios::binary | std::ios::trunc);
   if (!out_) {
     throw DataError(path.string(),
@@ -102,7 +107,7 @@ void AtomicFileWriter::commit() {
   out_.close();  // flushes; a full disk shows up here
   if (!out_) fail_write();
   std::error_code error;
-  fs::rename(temporary_, path_, error);
+  fs::rename(temporary_, target_, error);
   if (error) {
     discard();
     throw DataError(name, fmt::format("cannot replace file: {}", error.message()));

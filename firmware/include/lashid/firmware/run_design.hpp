@@ -9,7 +9,6 @@
 #pragma once
 
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -18,6 +17,15 @@
 #include "lashid/hal/link_protocol.hpp"
 
 namespace lashid::fw {
+
+namespace detail {
+// Constant-expression forms of isfinite and fabs: the rules are checked at compile time on the paper's designs
+// (paper_run_designs.hpp), and libstdc++'s <cmath> functions are constexpr only as GCC builtins, not under Clang.
+constexpr bool finite(float x) {
+  return x == x && x != std::numeric_limits<float>::infinity() && x != -std::numeric_limits<float>::infinity();
+}
+constexpr float magnitude(float x) { return x < 0 ? -x : x; }
+}  // namespace detail
 
 /// Capacity of the firmware image: fixed-size storage for models up to this order and points per border. The
 /// estimate record of the largest design must fit one link frame (static_assert in messages.hpp).
@@ -99,7 +107,7 @@ struct RunDesign {
   float sensor_max = std::numeric_limits<float>::infinity();
 
   /// Whether a measured value can be estimated from: finite and within the sensor's range.
-  constexpr bool sensor_value_ok(float y) const { return std::isfinite(y) && y >= sensor_min && y <= sensor_max; }
+  constexpr bool sensor_value_ok(float y) const { return detail::finite(y) && y >= sensor_min && y <= sensor_max; }
 
   /// Pulse period T of Theorem 3.1 (3.25) for this n, m.
   constexpr int period() const { return est::schedule::period(n, m); }
@@ -160,13 +168,16 @@ constexpr float kLevelResolution = 64.0f * std::numeric_limits<float>::epsilon()
 
 constexpr bool distinct_from_held(const std::array<float, kMaxPoints>& V, int m, float held) {
   float scale = 0;
-  for (int j = 0; j < m; ++j) scale = std::fmax(scale, std::fabs(V[static_cast<std::size_t>(j)] - held));
+  for (int j = 0; j < m; ++j) {
+    const float w = magnitude(V[static_cast<std::size_t>(j)] - held);
+    if (w > scale) scale = w;
+  }
   // Twice the classifier's tolerance: the two nodes' tolerance bands must not touch.
   const float tol = 2.0f * kLevelResolution * scale;
   for (int j = 0; j < m; ++j) {
     const float w = V[static_cast<std::size_t>(j)] - held;
-    if (!(std::fabs(w) > tol)) return false;
-    if (j > 0 && !(std::fabs(w - (V[static_cast<std::size_t>(j - 1)] - held)) > tol)) return false;
+    if (!(magnitude(w) > tol)) return false;
+    if (j > 0 && !(magnitude(w - (V[static_cast<std::size_t>(j - 1)] - held)) > tol)) return false;
   }
   return true;
 }
@@ -177,12 +188,12 @@ constexpr DesignStatus check_design(const RunDesign& d) {
   if (d.op != OperatorKind::kSwitch && d.op != OperatorKind::kBacklash) return DesignStatus::kUnknownOperator;
   if (d.n < 1 || d.n > kMaxOrder) return DesignStatus::kOrderOutOfRange;
   if (d.m < 1 || d.m > kMaxPoints) return DesignStatus::kPointsOutOfRange;
-  if (!std::isfinite(d.v_min) || !std::isfinite(d.v_max) || !(d.v_min < d.v_max)) {
+  if (!detail::finite(d.v_min) || !detail::finite(d.v_max) || !(d.v_min < d.v_max)) {
     return DesignStatus::kIntervalInvalid;
   }
   const auto m = static_cast<std::size_t>(d.m);
   for (std::size_t j = 0; j < m; ++j) {
-    if (!std::isfinite(d.V_d[j]) || !std::isfinite(d.V_a[j])) return DesignStatus::kLevelNotFinite;
+    if (!detail::finite(d.V_d[j]) || !detail::finite(d.V_a[j])) return DesignStatus::kLevelNotFinite;
   }
   if (d.V_d[0] != d.v_min) return DesignStatus::kVdFirstNotVMin;
   for (std::size_t j = 1; j < m; ++j) {

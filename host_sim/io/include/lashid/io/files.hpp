@@ -27,6 +27,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 // run): the pieces go to the temporary sibling `.NAME.tmp-XXXXXXXXXXXXXXXX` as they are written and flushed, and
 // commit() renames it onto `path`. Until then `path` keeps its previous content; without commit() (an exception,
 // discard()) the temporary is removed. A process killed outright leaves the temporary with what was flushed.
+// A `path` that is a symbolic link is written through: the file it points to is replaced, the link stays.
 // Errors are DataError naming `path`.
 class AtomicFileWriter {
  public:
@@ -52,6 +53,7 @@ class AtomicFileWriter {
   [[noreturn]] void fail_write();
 
   std::filesystem::path path_;
+  std::filesystem::path target_;  // path_, or the file it links to
   std::filesystem::path temporary_;
   std::ofstream out_;
   bool open_ = false;
