@@ -16,6 +16,7 @@
 #include "lashid/io/files.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
+#include "lashid/operator_fit/output_dynamics.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/plot.hpp"
 #include "lashid/report/report.hpp"
@@ -118,35 +119,112 @@ json run_identification(const HysteresisOperator& actuator, double v_min, double
 struct TestResults {
   json fit_nominal = json::object();   // file -> fit (%)
   json fit_extended = json::object();  // file -> fit (%)
-  json loops = json::object();         // file -> both loop analyses
+  json fit_dynamics = json::object();  // file -> fit (%) of the extended operator followed by B/A
+  json loops = json::object();         // file -> the three loop analyses
   std::vector<LoopAnalysis> nominal;
   std::vector<LoopAnalysis> extended;
+  TestErrors errors;  // squared errors of the extended model without and with the dynamics, summed over the files
 };
 
-// Simulates both models on every test file, prints their fits and loop analyses, and adds one panel per file.
+// Simulates the three models on every test file, prints their fits and loop analyses, and adds one panel per file.
 TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const NominalFit& nominal,
                                 const HysteresisOperator& nominal_op, const HysteresisOperator& extended_op,
-                                const LoopPhaseOptions& phase_options, report::plot::Figure& figure) {
+                                const OutputFilter& dynamics, const LoopPhaseOptions& phase_options,
+                                report::plot::Figure& figure) {
   TestResults out;
   for (const auto& rec : test) {
     const auto u_nom = simulate_operator(nominal_op, rec.v, rec.u.front());
     const auto u_ext = simulate_operator(extended_op, rec.v, rec.u.front());
+    const auto u_dyn = dynamics.apply(u_ext, rec.u.front());
     const double f_nom = fit_to_record(rec, u_nom), f_ext = fit_to_record(rec, u_ext);
+    const double f_dyn = fit_to_record(rec, u_dyn);
     out.fit_nominal[rec.source] = f_nom;
     out.fit_extended[rec.source] = f_ext;
-    fmt::print("{}: {} samples, test fit nominal ({}) {:.1f} %, extended {:.1f} %\n", rec.source, rec.v.size(),
-               nominal.chosen, f_nom, f_ext);
+    out.fit_dynamics[rec.source] = f_dyn;
+    for (std::size_t t = 0; t < rec.u.size(); ++t) {
+      out.errors.extended += (rec.u[t] - u_ext[t]) * (rec.u[t] - u_ext[t]);
+      out.errors.with_dynamics += (rec.u[t] - u_dyn[t]) * (rec.u[t] - u_dyn[t]);
+    }
+    out.errors.mean_fit_extended += f_ext / static_cast<double>(test.size());
+    out.errors.mean_fit_dynamics += f_dyn / static_cast<double>(test.size());
+    fmt::print("{}: {} samples, test fit nominal ({}) {:.1f} %, extended {:.1f} %, extended + dynamics {:.1f} %\n",
+               rec.source, rec.v.size(), nominal.chosen, f_nom, f_ext, f_dyn);
     const LoopAnalysis a_nom = analyse_loop(rec, u_nom, phase_options);
     const LoopAnalysis a_ext = analyse_loop(rec, u_ext, phase_options);
+    const LoopAnalysis a_dyn = analyse_loop(rec, u_dyn, phase_options);
     print_analysis("nominal", a_nom, rec.v.size(), phase_options);
     print_analysis("extended", a_ext, rec.v.size(), phase_options);
+    print_analysis("extended + dynamics", a_dyn, rec.v.size(), phase_options);
     out.nominal.push_back(a_nom);
     out.extended.push_back(a_ext);
-    out.loops[rec.source] = {{"nominal", analysis_json(a_nom)}, {"extended", analysis_json(a_ext)}};
+    out.loops[rec.source] = {{"nominal", analysis_json(a_nom)},
+                             {"extended", analysis_json(a_ext)},
+                             {"extended_dynamics", analysis_json(a_dyn)}};
     figure.panels.push_back({std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
                              {{"measured", rec.v, rec.u},
                               {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},
-                              {fmt::format("friction_gap, fit {:.1f} %", f_ext), rec.v, u_ext}}});
+                              {fmt::format("friction_gap, fit {:.1f} %", f_ext), rec.v, u_ext},
+                              {fmt::format("friction_gap + B/A, fit {:.1f} %", f_dyn), rec.v, u_dyn}}});
+  }
+  return out;
+}
+
+// Sampling rate of the (possibly decimated) training records: samples per second over the first file's span.
+double sampling_rate(const std::vector<DamperRecord>& train) {
+  const DamperRecord& r = train.front();
+  return static_cast<double>(r.t.size() - 1) / (r.t.back() - r.t.front());
+}
+
+// The filter after the extended operator, from the training files only: input the operator's simulation, output
+// the measured force.
+OutputDynamicsFit fit_dynamics(const std::vector<DamperRecord>& train, const HysteresisOperator& extended_op) {
+  std::vector<FilterData> data;
+  for (const auto& rec : train) data.push_back({simulate_operator(extended_op, rec.v, rec.u.front()), rec.u});
+  return fit_output_dynamics(data);
+}
+
+json pole_json(const FilterPole& p) {
+  return {{"re", p.z.real()},           {"im", p.z.imag()},           {"magnitude", std::abs(p.z)},
+          {"natural_hz", p.natural_hz}, {"damped_hz", p.damped_hz}, {"zeta", p.zeta}};
+}
+
+json dynamics_json(const OutputDynamicsFit& fit, const std::vector<FilterPole>& poles, double rate,
+                   const json& fit_test) {
+  json scores = json::array(), pole_list = json::array();
+  for (const auto& s : fit.scores) scores.push_back({{"order", s.order}, {"cv_fit", s.cv_fit}});
+  for (const auto& p : poles) pole_list.push_back(pole_json(p));
+  FilterPole dominant;
+  const bool has_dominant = dominant_pole(poles, &dominant);
+  return {{"model",
+           {{"structure", "friction_gap -> B(q)/A(q)"},
+            {"order", fit.filter.order()},
+            {"a", fit.filter.a},
+            {"b", fit.filter.b},
+            {"dc_gain", fit.filter.dc_gain()},
+            {"sample_rate_hz", rate},
+            {"poles", pole_list},
+            {"dominant_pole", has_dominant ? pole_json(dominant) : json(nullptr)}}},
+          {"order_selection", {{"method", "leave one training file out"}, {"scores", scores}}},
+          {"fit_train", fit.fit_train},
+          {"fit_test", fit_test}};
+}
+
+void print_dynamics(const OutputDynamicsFit& fit, const std::vector<FilterPole>& poles) {
+  fmt::print("Dynamics after the extended operator, B(q)/A(q) of order {} (orders by leave-one-training-file-out "
+             "fit:",
+             fit.filter.order());
+  for (const auto& s : fit.scores) fmt::print(" {}: {:.1f} %", s.order, s.cv_fit);
+  fmt::print("): static gain {:.3f}, training fit {:.1f} %\n  poles:", fit.filter.dc_gain(), fit.fit_train);
+  for (const auto& p : poles) {
+    fmt::print(" {:.5f}{:+.5f}i ({:.2f} Hz, zeta {:.3f})", p.z.real(), p.z.imag(), p.natural_hz, p.zeta);
+  }
+  fmt::print("\n\n");
+}
+
+json summary_json(const TestResults& r) {
+  json out = json::object();
+  for (const auto& [file, fit] : r.fit_nominal.items()) {
+    out[file] = {{"nominal", fit}, {"extended", r.fit_extended[file]}, {"extended_dynamics", r.fit_dynamics[file]}};
   }
   return out;
 }
@@ -246,12 +324,21 @@ int run_operator_fit(const OperatorFitArgs& args) {
              "points: training fit {:.1f} %\n\n",
              extended.half_width, extended.stiffness, extended.curve.size(), extended.fit_train);
 
+  const OutputDynamicsFit dynamics = fit_dynamics(train, *extended_op);
+  const double rate = sampling_rate(train);
+  const std::vector<FilterPole> poles = filter_poles(dynamics.filter, rate);
+  print_dynamics(dynamics, poles);
+
   report::plot::Figure figure;
-  figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended)",
-                             nominal.chosen);
-  const TestResults results = evaluate_test_files(test, nominal, *nominal_op, *extended_op, phase_options, figure);
+  figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended) vs "
+                             "friction_gap + B/A", nominal.chosen);
+  const TestResults results =
+      evaluate_test_files(test, nominal, *nominal_op, *extended_op, dynamics.filter, phase_options, figure);
   const auto [v_lo, v_hi] = training_range(train);
-  const std::vector<DamperCause> causes = damper_causes(results.nominal, results.extended, extended, v_hi - v_lo);
+  std::vector<DamperCause> causes = damper_causes(results.nominal, results.extended, extended, v_hi - v_lo);
+  if (auto ringing = dynamics_after_friction_element(poles, dynamics.filter.order(), results.errors)) {
+    causes.push_back(std::move(*ringing));
+  }
   print_causes(causes);
   figure.panels.push_back(fitted_models_panel(nominal, extended));
 
@@ -260,6 +347,8 @@ int run_operator_fit(const OperatorFitArgs& args) {
                          {"options", options_json(args)},
                          {"nominal", nominal_json(nominal, args.points, results.fit_nominal)},
                          {"extended", extended_json(extended, *extended_op, results.fit_extended)},
+                         {"dynamics", dynamics_json(dynamics, poles, rate, results.fit_dynamics)},
+                         {"fit_test", summary_json(results)},
                          {"cause", causes_json(causes)},
                          {"loop_analysis", results.loops},
                          {"identification", identification}};
