@@ -172,6 +172,28 @@ TEST(OutputDynamics, BadInputIsAClearError) {
                        "needs n a's and n + 1 b's"));
 }
 
+// --------------------------------------------------------------------------------- what the operator misses
+
+// At 1020 Hz a centred window of 25 samples each side holds 51 samples, exactly one period of 20 Hz: the moving mean removes a
+// constant offset and leaves the sinusoid whole, so (away from the ends) the fast part is A sin, of energy A^2 / 2
+// per sample against c^2 + A^2 / 2 for the whole error.
+TEST(ErrorOscillation, FindsTheFrequencyAndShareOfAFastErrorOverASlowOne) {
+  constexpr double rate = 1020, amplitude = 0.3, offset = 0.4;
+  std::vector<double> measured, simulated;
+  for (int t = 0; t < 10 * 1020; ++t) {
+    simulated.push_back(std::sin(2 * kPi * 0.5 * t / rate));  // the model's part cancels in the error
+    measured.push_back(simulated.back() + offset + amplitude * std::sin(2 * kPi * 20 * t / rate));
+  }
+  const ErrorOscillation osc = error_oscillation(measured, simulated, rate, 50 / rate);  // 25 samples each side
+  EXPECT_EQ(osc.peak_hz, 20.0);
+  EXPECT_NEAR(osc.peak_amplitude, amplitude, 0.005);
+  const double share = amplitude * amplitude / 2 / (offset * offset + amplitude * amplitude / 2);
+  EXPECT_NEAR(osc.fast_share, share, 0.01);
+  EXPECT_EQ(error_oscillation(simulated, simulated, rate).fast_share, 0.0);
+  EXPECT_TRUE(Contains(error_of([] { error_oscillation(std::vector<double>{1, 2}, std::vector<double>{1}, 1.0); }),
+                       "need equal sizes (2 vs 1)"));
+}
+
 // ---------------------------------------------------------------------------------------------- cause rule
 
 TEST(DamperCauses, DynamicsAreNamedWithTheirRingingFrequencyAndDamping) {
@@ -192,6 +214,9 @@ TEST(DamperCauses, DynamicsAreNamedWithTheirRingingFrequencyAndDamping) {
       filter_poles(OutputFilter{{-std::exp(-2 * kPi * 10 / kRate)}, {1, 0}}, kRate), 1, TestErrors{100, 50, 60, 75});
   ASSERT_TRUE(lag.has_value());
   EXPECT_TRUE(Contains(lag->evidence, "real pole at 10.0 Hz (time constant 15.9 ms)"));
+  // Not named, still described: a filter that adds error says so.
+  EXPECT_TRUE(Contains(output_dynamics_in_words(poles, 2, TestErrors{100, 120, 60, 55}),
+                       "squared error on the test files grows by 20 % (mean test fit 60.0 % -> 55.0 %)"));
 }
 
 }  // namespace

@@ -129,7 +129,7 @@ struct TestResults {
 // Simulates the three models on every test file, prints their fits and loop analyses, and adds one panel per file.
 TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const NominalFit& nominal,
                                 const HysteresisOperator& nominal_op, const HysteresisOperator& extended_op,
-                                const OutputFilter& dynamics, const LoopPhaseOptions& phase_options,
+                                const OutputFilter& dynamics, double rate, const LoopPhaseOptions& phase_options,
                                 report::plot::Figure& figure) {
   TestResults out;
   for (const auto& rec : test) {
@@ -155,11 +155,20 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
     print_analysis("nominal", a_nom, rec.v.size(), phase_options);
     print_analysis("extended", a_ext, rec.v.size(), phase_options);
     print_analysis("extended + dynamics", a_dyn, rec.v.size(), phase_options);
+    // What the extended operator still gets wrong: how much of its error is fast oscillation (chatter or ringing).
+    const ErrorOscillation osc = error_oscillation(rec.u, u_ext, rate);
+    fmt::print("  Extended model's error: {:.0f} % of its energy changes faster than about 10 Hz (the error minus "
+               "its 100 ms moving mean), with the largest amplitude, {:.3f}, at {:.0f} Hz\n",
+               100 * osc.fast_share, osc.peak_amplitude, osc.peak_hz);
     out.nominal.push_back(a_nom);
     out.extended.push_back(a_ext);
     out.loops[rec.source] = {{"nominal", analysis_json(a_nom)},
                              {"extended", analysis_json(a_ext)},
-                             {"extended_dynamics", analysis_json(a_dyn)}};
+                             {"extended_dynamics", analysis_json(a_dyn)},
+                             {"extended_error_oscillation",
+                              {{"fast_share", osc.fast_share},
+                               {"peak_hz", osc.peak_hz},
+                               {"peak_amplitude", osc.peak_amplitude}}}};
     figure.panels.push_back({std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
                              {{"measured", rec.v, rec.u},
                               {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},
@@ -333,13 +342,19 @@ int run_operator_fit(const OperatorFitArgs& args) {
   figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended) vs "
                              "friction_gap + B/A", nominal.chosen);
   const TestResults results =
-      evaluate_test_files(test, nominal, *nominal_op, *extended_op, dynamics.filter, phase_options, figure);
+      evaluate_test_files(test, nominal, *nominal_op, *extended_op, dynamics.filter, rate, phase_options, figure);
   const auto [v_lo, v_hi] = training_range(train);
   std::vector<DamperCause> causes = damper_causes(results.nominal, results.extended, extended, v_hi - v_lo);
-  if (auto ringing = dynamics_after_friction_element(poles, dynamics.filter.order(), results.errors)) {
-    causes.push_back(std::move(*ringing));
-  }
+  const std::string dynamics_words = output_dynamics_in_words(poles, dynamics.filter.order(), results.errors);
+  auto ringing = dynamics_after_friction_element(poles, dynamics.filter.order(), results.errors);
+  const bool dynamics_named = ringing.has_value();
+  if (ringing) causes.push_back(std::move(*ringing));
   print_causes(causes);
+  if (!dynamics_named) {
+    fmt::print("  - not named: dynamics_after_friction_element, too little gain (< {:.0f} % of the squared error): "
+               "{}\n",
+               100 * DamperCauseOptions{}.dynamics_error_reduction, dynamics_words);
+  }
   figure.panels.push_back(fitted_models_panel(nominal, extended));
 
   const json identification = run_identification(*extended_op, v_lo, v_hi);
@@ -348,6 +363,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
                          {"nominal", nominal_json(nominal, args.points, results.fit_nominal)},
                          {"extended", extended_json(extended, *extended_op, results.fit_extended)},
                          {"dynamics", dynamics_json(dynamics, poles, rate, results.fit_dynamics)},
+                         {"dynamics_in_words", {{"named_as_cause", dynamics_named}, {"text", dynamics_words}}},
                          {"fit_test", summary_json(results)},
                          {"cause", causes_json(causes)},
                          {"loop_analysis", results.loops},

@@ -344,4 +344,44 @@ OutputDynamicsFit fit_output_dynamics(const std::vector<FilterData>& train, cons
   return out;
 }
 
+ErrorOscillation error_oscillation(std::span<const double> measured, std::span<const double> simulated,
+                                   double sample_rate, double window_s, double from_hz, double to_hz) {
+  if (measured.size() != simulated.size() || !(sample_rate > 0) || !(window_s > 0) || !(from_hz <= to_hz)) {
+    throw std::invalid_argument(fmt::format(
+        "error_oscillation: need equal sizes ({} vs {}), rate > 0 ({}), window > 0 ({}), from <= to ({}, {})",
+        measured.size(), simulated.size(), sample_rate, window_s, from_hz, to_hz));
+  }
+  const std::size_t n = measured.size();
+  std::vector<double> error(n), fast(n);
+  for (std::size_t t = 0; t < n; ++t) error[t] = measured[t] - simulated[t];
+  // Centred moving mean by a running sum; the window shrinks at the ends of the record.
+  const auto half = static_cast<std::size_t>(std::max(1.0, std::round(window_s * sample_rate / 2)));
+  std::vector<double> cumulative(n + 1, 0.0);
+  for (std::size_t t = 0; t < n; ++t) cumulative[t + 1] = cumulative[t] + error[t];
+  double total = 0, fast_energy = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    const std::size_t lo = t >= half ? t - half : 0, hi = std::min(n, t + half + 1);
+    fast[t] = error[t] - (cumulative[hi] - cumulative[lo]) / static_cast<double>(hi - lo);
+    total += error[t] * error[t];
+    fast_energy += fast[t] * fast[t];
+  }
+  ErrorOscillation out;
+  out.fast_share = total > 0 ? fast_energy / total : 0.0;
+  for (double hz = from_hz; hz <= to_hz + 1e-9; hz += 1.0) {
+    // Fourier coefficient at hz by a rotating phasor (one complex multiplication per sample).
+    const std::complex<double> turn = std::polar(1.0, -2 * std::numbers::pi * hz / sample_rate);
+    std::complex<double> phasor = 1.0, sum = 0.0;
+    for (std::size_t t = 0; t < n; ++t) {
+      sum += fast[t] * phasor;
+      phasor *= turn;
+    }
+    const double amplitude = n > 0 ? 2 * std::abs(sum) / static_cast<double>(n) : 0.0;
+    if (amplitude > out.peak_amplitude) {
+      out.peak_amplitude = amplitude;
+      out.peak_hz = hz;
+    }
+  }
+  return out;
+}
+
 }  // namespace lashid::sim

@@ -54,11 +54,15 @@ std::vector<DamperCause> damper_causes(const std::vector<LoopAnalysis>& nominal,
                                        const std::vector<LoopAnalysis>& extended, const ExtendedFit& extended_fit,
                                        double v_span, const DamperCauseOptions& options = {});
 
+/// One sentence on the filter after the extended operator, whatever its gain: its dominant pole (dominant_pole())
+/// in words (ringing frequency and damping zeta when it oscillates, time constant when it is real) and how much of
+/// the extended operator's squared error on the test files it removes (or adds).
+std::string output_dynamics_in_words(const std::vector<FilterPole>& poles, int order, const TestErrors& errors);
+
 /// dynamics_after_friction_element: named when the filter B(q)/A(q) after the extended operator (identified on the
 /// training files; `poles` from filter_poles(), `order` its order) removes at least
-/// options.dynamics_error_reduction of the extended operator's squared error on the test files. The words give
-/// the dominant pole (dominant_pole()): its ringing frequency and damping zeta when it oscillates, its time
-/// constant when it is real. No poles or too little gain: nothing.
+/// options.dynamics_error_reduction of the extended operator's squared error on the test files; the evidence is
+/// output_dynamics_in_words(). No poles or too little gain: nothing.
 std::optional<DamperCause> dynamics_after_friction_element(const std::vector<FilterPole>& poles, int order,
                                                            const TestErrors& errors,
                                                            const DamperCauseOptions& options = {});

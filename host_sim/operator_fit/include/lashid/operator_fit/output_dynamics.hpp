@@ -78,4 +78,17 @@ struct OutputDynamicsFit {
 /// data only. Throws std::invalid_argument for an empty list or min_order < 1 or max_order < min_order.
 OutputDynamicsFit fit_output_dynamics(const std::vector<FilterData>& train, const OutputDynamicsOptions& options = {});
 
+/// How much of a model's error u - u_sim oscillates: the error minus its centred moving mean over `window_s`
+/// seconds (what changes faster than about 1 / window_s Hz), its share of the error's energy, and the frequency
+/// (1 Hz steps from `from_hz` to `to_hz`) where the amplitude of that fast part's Fourier transform peaks.
+struct ErrorOscillation {
+  double fast_share = 0;  ///< sum of squares of the fast part / sum of squares of the error (0 for no error)
+  double peak_hz = 0;
+  double peak_amplitude = 0;  ///< amplitude of a sinusoid at peak_hz with the same Fourier coefficient
+};
+/// Throws std::invalid_argument for unequal sizes, a rate or window that is not positive, or from_hz > to_hz.
+ErrorOscillation error_oscillation(std::span<const double> measured, std::span<const double> simulated,
+                                   double sample_rate, double window_s = 0.1, double from_hz = 5,
+                                   double to_hz = 100);
+
 }  // namespace lashid::sim
