@@ -1,5 +1,6 @@
 // End-to-end tests of `lashid operator-fit` (LASHID_EXE) on the measured damper data (LASHID_DAMPER_DATA): what
 // it writes, its errors, and that a failing run leaves no file behind.
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -44,6 +45,38 @@ TEST_F(OperatorFitCli, WritesTheFitsOfBothModelsPerTestFile) {
   EXPECT_EQ(j["cause"][0]["name"], "finite_stiffness_at_reversal");
   EXPECT_EQ(j["identification"]["dis"]["a"].size(), 2U);
   EXPECT_EQ(j["options"]["decimate"], 8);
+}
+
+// The dynamics after the operator: a filter of an order in 2..4 chosen on the single training file (its halves),
+// its poles with their meaning at the decimated rate 1024 / 8 = 128 Hz (Nyquist 64 Hz), and the three fits per test file.
+TEST_F(OperatorFitCli, ReportsTheDynamicsAfterTheOperatorPerTestFile) {
+  const Outcome r = run({"operator-fit", "--decimate", "8", "--train", kTrain, "--test", kTest1, kTest2, "--json",
+                         "fit.json"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.out, "extended + dynamics"));
+  const json j = json::parse(slurp(work_ / "fit.json"));
+  const json& model = j["dynamics"]["model"];
+  const int order = model["order"].get<int>();
+  EXPECT_GE(order, 2);
+  EXPECT_LE(order, 4);
+  EXPECT_EQ(model["a"].size(), static_cast<std::size_t>(order));
+  EXPECT_EQ(model["b"].size(), static_cast<std::size_t>(order) + 1);
+  EXPECT_NEAR(model["sample_rate_hz"].get<double>(), 128.0, 1e-4);  // times in the files have 8 digits
+  EXPECT_EQ(j["dynamics"]["order_selection"]["scores"].size(), 3U);
+  ASSERT_EQ(model["poles"].size(), static_cast<std::size_t>(order));
+  for (const auto& p : model["poles"]) {
+    EXPECT_LT(p["magnitude"].get<double>(), 1.0);  // refined filters stay stable
+    EXPECT_LE(p["natural_hz"].get<double>(), 64.0 * std::sqrt(2.0) + 1e-9);  // |ln z| <= sqrt(ln^2 r + pi^2)
+  }
+  for (const auto& file : {kTest1, kTest2}) {
+    const json& fits = j["fit_test"][file];
+    EXPECT_EQ(fits["extended"], j["extended"]["fit_test"][file]);
+    EXPECT_EQ(fits["extended_dynamics"], j["dynamics"]["fit_test"][file]);
+    EXPECT_TRUE(fits["extended_dynamics"].is_number()) << file;
+    EXPECT_TRUE(j["loop_analysis"][file]["extended_error_oscillation"]["peak_hz"].is_number());
+  }
+  EXPECT_TRUE(j["dynamics_in_words"]["named_as_cause"].is_boolean());
+  EXPECT_TRUE(Contains(j["dynamics_in_words"]["text"].get<std::string>(), "identified on the training files only"));
 }
 
 TEST_F(OperatorFitCli, BadDataNamesFileLineAndColumnAndWritesNothing) {

@@ -205,7 +205,7 @@ TEST(DamperCauses, DynamicsAreNamedWithTheirRingingFrequencyAndDamping) {
   EXPECT_TRUE(cause->in_extended_model);
   EXPECT_TRUE(Contains(cause->evidence, "rings at 5.9 Hz after reversals"));
   EXPECT_TRUE(Contains(cause->evidence, "zeta = 0.20, natural frequency 6.0 Hz"));
-  EXPECT_TRUE(Contains(cause->evidence, "drops by 50 % (mean test fit 60.0 % -> 75.0 %)"));
+  EXPECT_TRUE(Contains(cause->evidence, "drops by 50.0 % (mean test fit 60.0 % -> 75.0 %)"));
   // 5 % removed is below the 10 % threshold; no poles, nothing.
   EXPECT_FALSE(dynamics_after_friction_element(poles, 2, TestErrors{100, 95, 60, 61}).has_value());
   EXPECT_FALSE(dynamics_after_friction_element({}, 2, TestErrors{100, 50, 60, 75}).has_value());
@@ -216,7 +216,7 @@ TEST(DamperCauses, DynamicsAreNamedWithTheirRingingFrequencyAndDamping) {
   EXPECT_TRUE(Contains(lag->evidence, "real pole at 10.0 Hz (time constant 15.9 ms)"));
   // Not named, still described: a filter that adds error says so.
   EXPECT_TRUE(Contains(output_dynamics_in_words(poles, 2, TestErrors{100, 120, 60, 55}),
-                       "squared error on the test files grows by 20 % (mean test fit 60.0 % -> 55.0 %)"));
+                       "squared error on the test files grows by 20.0 % (mean test fit 60.0 % -> 55.0 %)"));
 }
 
 }  // namespace

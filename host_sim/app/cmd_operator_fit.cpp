@@ -157,9 +157,13 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
     print_analysis("extended + dynamics", a_dyn, rec.v.size(), phase_options);
     // What the extended operator still gets wrong: how much of its error is fast oscillation (chatter or ringing).
     const ErrorOscillation osc = error_oscillation(rec.u, u_ext, rate);
+    // If that fast part stayed and everything else were right: ||e_fast|| = sqrt(share) ||e||, so the fit would be
+    // 100 - sqrt(share) (100 - fit). A ceiling for any model that cannot predict the oscillation's phase.
+    const double ceiling = 100 - std::sqrt(osc.fast_share) * (100 - f_ext);
     fmt::print("  Extended model's error: {:.0f} % of its energy changes faster than about 10 Hz (the error minus "
-               "its 100 ms moving mean), with the largest amplitude, {:.3f}, at {:.0f} Hz\n",
-               100 * osc.fast_share, osc.peak_amplitude, osc.peak_hz);
+               "its 100 ms moving mean), with the largest amplitude, {:.3f}, at {:.0f} Hz; a model that still "
+               "misses that fast part fits at most {:.1f} %\n",
+               100 * osc.fast_share, osc.peak_amplitude, osc.peak_hz, ceiling);
     out.nominal.push_back(a_nom);
     out.extended.push_back(a_ext);
     out.loops[rec.source] = {{"nominal", analysis_json(a_nom)},
@@ -168,7 +172,8 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
                              {"extended_error_oscillation",
                               {{"fast_share", osc.fast_share},
                                {"peak_hz", osc.peak_hz},
-                               {"peak_amplitude", osc.peak_amplitude}}}};
+                               {"peak_amplitude", osc.peak_amplitude},
+                               {"fit_ceiling_without_it", ceiling}}}};
     figure.panels.push_back({std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
                              {{"measured", rec.v, rec.u},
                               {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},

@@ -121,7 +121,7 @@ std::string output_dynamics_in_words(const std::vector<FilterPole>& poles, int o
   const double removed = errors.extended > 0 ? 1.0 - errors.with_dynamics / errors.extended : 0.0;
   const std::string gain = fmt::format(
       "(dominant pole of the order-{} B(q)/A(q) after the friction_gap operator, identified on the training files "
-      "only); with it the extended model's squared error on the test files {} by {:.0f} % (mean test fit {:.1f} "
+      "only); with it the extended model's squared error on the test files {} by {:.1f} % (mean test fit {:.1f} "
       "% -> {:.1f} %)",
       order, removed >= 0 ? "drops" : "grows", 100 * std::fabs(removed), errors.mean_fit_extended,
       errors.mean_fit_dynamics);
