@@ -48,7 +48,8 @@ TEST_F(OperatorFitCli, WritesTheFitsOfBothModelsPerTestFile) {
 }
 
 // The dynamics after the operator: a filter of an order in 2..4 chosen on the single training file (its halves),
-// its poles with their meaning at the decimated rate 1024 / 8 = 128 Hz (Nyquist 64 Hz), and the three fits per test file.
+// its poles with their meaning at the decimated rate 1024 / 8 = 128 Hz (Nyquist 64 Hz), and the three fits per test
+// file.
 TEST_F(OperatorFitCli, ReportsTheDynamicsAfterTheOperatorPerTestFile) {
   const Outcome r = run({"operator-fit", "--decimate", "8", "--train", kTrain, "--test", kTest1, kTest2, "--json",
                          "fit.json"});

@@ -48,7 +48,9 @@ OutputFilter resonance(double natural_hz, double zeta) {
 // i.e. the sign of cos(2 pi f t) (the amplitude ramps slowly, so it does not move the reversals noticeably).
 std::vector<double> switch_output(double hz, double seconds) {
   std::vector<double> w;
-  for (int t = 0; t < static_cast<int>(seconds * kRate); ++t) w.push_back(std::cos(2 * kPi * hz * t / kRate) >= 0 ? 1 : -1);
+  for (int t = 0; t < static_cast<int>(seconds * kRate); ++t) {
+    w.push_back(std::cos(2 * kPi * hz * t / kRate) >= 0 ? 1 : -1);
+  }
   return w;
 }
 
@@ -174,9 +176,9 @@ TEST(OutputDynamics, BadInputIsAClearError) {
 
 // --------------------------------------------------------------------------------- what the operator misses
 
-// At 1020 Hz a centred window of 25 samples each side holds 51 samples, exactly one period of 20 Hz: the moving mean removes a
-// constant offset and leaves the sinusoid whole, so (away from the ends) the fast part is A sin, of energy A^2 / 2
-// per sample against c^2 + A^2 / 2 for the whole error.
+// At 1020 Hz a centred window of 25 samples each side holds 51 samples, exactly one period of 20 Hz: the moving
+// mean removes a constant offset and leaves the sinusoid whole, so (away from the ends) the fast part is A sin, of
+// energy A^2 / 2 per sample against c^2 + A^2 / 2 for the whole error.
 TEST(ErrorOscillation, FindsTheFrequencyAndShareOfAFastErrorOverASlowOne) {
   constexpr double rate = 1020, amplitude = 0.3, offset = 0.4;
   std::vector<double> measured, simulated;

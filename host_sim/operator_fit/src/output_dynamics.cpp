@@ -104,7 +104,9 @@ double simulated_error(const std::vector<FilterData>& files, const OutputFilter&
       for (std::size_t k = 1; k <= lags; ++k) {
         J(row, static_cast<Eigen::Index>(k - 1)) = -(t >= k ? y_sim[t - k] : d.y.front());
       }
-      for (std::size_t j = 0; j <= lags; ++j) J(row, static_cast<Eigen::Index>(lags + j)) = t >= j ? d.w[t - j] : d.w[0];
+      for (std::size_t j = 0; j <= lags; ++j) {
+        J(row, static_cast<Eigen::Index>(lags + j)) = t >= j ? d.w[t - j] : d.w[0];
+      }
       // Rows before the file's first sample do not exist; the row of t = 0 is zero.
       for (std::size_t k = 1; k <= lags && k <= t; ++k) {
         J.row(row) -= f.a[k - 1] * J.row(row - static_cast<Eigen::Index>(k));
@@ -330,7 +332,9 @@ OutputDynamicsFit fit_output_dynamics(const std::vector<FilterData>& train, cons
   double chosen_score = -std::numeric_limits<double>::infinity();
   for (int order = options.min_order; order <= options.max_order; ++order) {
     double sum = 0;
-    for (const auto& [fit_on, score_on] : folds) sum += mean_fit(score_on, fit_order(fit_on, order, options.iterations));
+    for (const auto& [fit_on, score_on] : folds) {
+      sum += mean_fit(score_on, fit_order(fit_on, order, options.iterations));
+    }
     const double score = sum / static_cast<double>(folds.size());
     out.scores.push_back({order, score});
     // A higher order must earn its parameters: it replaces the current choice only by more than the tolerance.
