@@ -34,6 +34,9 @@ struct DamperCauseOptions {
   /// dynamics_after_friction_element: fraction of the extended operator's squared error on the test files that the
   /// filter after it (identified on the training files) must remove to count.
   double dynamics_error_reduction = 0.10;
+  /// friction_level_scales_with_band_tension: fraction of the tension-blind extended operator's squared error on
+  /// the test files that the operator fitted per band tension must remove to count.
+  double band_tension_error_reduction = 0.10;
 };
 
 /// The extended operator's squared error on the test files without and with the filter after it (sums over the
