@@ -80,6 +80,44 @@ TEST_F(OperatorFitCli, ReportsTheDynamicsAfterTheOperatorPerTestFile) {
   EXPECT_TRUE(Contains(j["dynamics_in_words"]["text"].get<std::string>(), "identified on the training files only"));
 }
 
+// Training at 30 and 36 lb: the operator per band tension, each test file at its own tension (from its name, or
+// --tension for the earthquake record, whose name has none).
+TEST_F(OperatorFitCli, FitsTheOperatorPerBandTension) {
+  const std::string train36 = kData + "/char_1Hz36lbtension1.5amplitude.csv";
+  const Outcome r = run({"operator-fit", "--decimate", "16", "--train", kTrain, train36, "--test", kTest1, kTest2,
+                         "--tension", "eq_KocaeliDBE.csv=36", "--json", "fit.json"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const json j = json::parse(slurp(work_ / "fit.json"));
+  EXPECT_EQ(j["tension_lb"]["train"], json({30.0, 36.0}));
+  EXPECT_EQ(j["tension_lb"]["test"], json({30.0, 36.0}));
+  const json& tensions = j["extended_tension"]["model"]["tensions"];
+  ASSERT_EQ(tensions.size(), 2U);
+  EXPECT_EQ(tensions[0]["tension_lb"], 30.0);
+  EXPECT_EQ(tensions[1]["tension_lb"], 36.0);
+  for (const auto& file : {kTest1, kTest2}) {
+    EXPECT_EQ(j["fit_test"][file]["extended_tension"], j["extended_tension"]["fit_test"][file]);
+  }
+  EXPECT_TRUE(Contains(j["tension_in_words"]["text"].get<std::string>(), "scales with band tension"));
+}
+
+TEST_F(OperatorFitCli, MissingOrBadTensionNamesTheFileAndWritesNothing) {
+  const std::string train36 = kData + "/char_1Hz36lbtension1.5amplitude.csv";
+  const Outcome missing = run({"operator-fit", "--decimate", "16", "--train", kTrain, train36, "--test", kTest1,
+                               kTest2, "--json", "fit.json"});
+  EXPECT_EQ(missing.exit_code, 1) << missing;
+  EXPECT_TRUE(Contains(missing.err, "eq_KocaeliDBE.csv: band tension unknown")) << missing;
+  EXPECT_TRUE(Contains(missing.err, "--tension eq_KocaeliDBE.csv=LB")) << missing;
+  const Outcome unknown = run({"operator-fit", "--decimate", "16", "--train", kTrain, "--test", kTest1,
+                               "--tension", "other.csv=36"});
+  EXPECT_EQ(unknown.exit_code, 1) << unknown;
+  EXPECT_TRUE(Contains(unknown.err, "--tension 'other.csv=36': no --train or --test file is named 'other.csv'"));
+  const Outcome bad = run({"operator-fit", "--decimate", "16", "--train", kTrain, "--test", kTest1, "--tension",
+                           "eq_KocaeliDBE.csv=heavy"});
+  EXPECT_EQ(bad.exit_code, 1) << bad;
+  EXPECT_TRUE(Contains(bad.err, "'heavy' is not a band tension in lb"));
+  EXPECT_TRUE(files_below(work_).empty());
+}
+
 TEST_F(OperatorFitCli, BadDataNamesFileLineAndColumnAndWritesNothing) {
   std::ofstream(work_ / "bad.csv") << "t_s,x_in,F_kip\n0,0,0\n0.1,nan,0\n";
   const Outcome r = run({"operator-fit", "--train", "bad.csv", "--test", kTest1, "--json", "fit.json"});

@@ -315,7 +315,15 @@ int run_operator_fit(const OperatorFitArgs& args) {
   const TestResults results = evaluate_test_files(test, nominal, *nominal_op, *extended_op, tensions,
                                                   dynamics.filter, rate, phase_options, figure);
   const auto [v_lo, v_hi] = training_range(train);
-  std::vector<DamperCause> causes = damper_causes(results.nominal, results.final_operator, extended, v_hi - v_lo);
+  // The causes are judged on the final operator: per band tension, its parallel stiffness is the largest |k|.
+  ExtendedFit judged = extended;
+  if (tensions.fit) {
+    judged.stiffness = 0;
+    for (const auto& c : tensions.fit->tensions) {
+      if (std::fabs(c.stiffness) >= std::fabs(judged.stiffness)) judged.stiffness = c.stiffness;
+    }
+  }
+  std::vector<DamperCause> causes = damper_causes(results.nominal, results.final_operator, judged, v_hi - v_lo);
   json tension_words = nullptr;
   if (tensions.fit) {
     auto scaling = friction_level_scales_with_band_tension(*tensions.fit, results.tension_gain);

@@ -145,6 +145,8 @@ json tension_json(const TensionFrictionFit& fit, const json& fit_test) {
   json per_tension = json::array();
   for (const auto& c : fit.tensions) {
     per_tension.push_back({{"tension_lb", c.tension_lb},
+                           {"half_width", c.half_width},
+                           {"train_rms_by_half_width", table_json(c.train_error_by_width)},
                            {"training_files", c.files},
                            {"stiffness", c.stiffness},
                            {"plateau_up", c.curve.back().second},
@@ -153,21 +155,19 @@ json tension_json(const TensionFrictionFit& fit, const json& fit_test) {
   }
   return {{"model",
            {{"operator", "friction_gap per band tension"},
-            {"half_width", fit.half_width},
-            {"interpolation", "G nodes and k linear in the tension between the two nearest training tensions"},
+            {"interpolation", "r, k and the nodes of G linear in the tension between the two nearest training tensions"},
             {"plateau_up_per_lb", fit.plateau_slope(true)},
             {"plateau_down_per_lb", fit.plateau_slope(false)},
-            {"tensions", per_tension},
-            {"train_rms_by_half_width", table_json(fit.train_error_by_width)}}},
+            {"tensions", per_tension}}},
           {"fit_train", fit.fit_train},
           {"fit_test", fit_test}};
 }
 
 void print_tension(const TensionFrictionFit& fit) {
-  fmt::print("Extended operator per band tension: shared r = {:.3f}; ", fit.half_width);
+  fmt::print("Extended operator per band tension: ");
   for (const auto& c : fit.tensions) {
-    fmt::print("{:g} lb ({} training files): G(+r) = {:.3f}, G(-r) = {:.3f}, k = {:.4f}; ", c.tension_lb, c.files,
-               c.curve.back().second, c.curve.front().second, c.stiffness);
+    fmt::print("{:g} lb ({} training files): r = {:.3f}, G(+r) = {:.3f}, G(-r) = {:.3f}, k = {:.4f}; ", c.tension_lb,
+               c.files, c.half_width, c.curve.back().second, c.curve.front().second, c.stiffness);
   }
   fmt::print("plateau slopes {:+.4f} (up) and {:+.4f} (down) per lb; training fit {:.1f} % (each file at its own "
              "tension)\n\n",

@@ -87,9 +87,17 @@ TensionCurve TensionFrictionFit::at(double tension_lb) const {
   const TensionCurve& a = tensions[i];
   const TensionCurve& b = tensions[i + 1];
   const double w = (tension_lb - a.tension_lb) / (b.tension_lb - a.tension_lb);
-  TensionCurve out{tension_lb, {}, (1 - w) * a.stiffness + w * b.stiffness, 0};
-  for (std::size_t n = 0; n < a.curve.size(); ++n) {
-    out.curve.emplace_back(a.curve[n].first, (1 - w) * a.curve[n].second + w * b.curve[n].second);
+  const double r = (1 - w) * a.half_width + w * b.half_width;
+  if (!(r > 0) || a.curve.size() != b.curve.size()) {
+    throw std::invalid_argument(fmt::format("the operator per band tension cannot be extrapolated to {:g} lb (play "
+                                            "half-width {:g})",
+                                            tension_lb, r));
+  }
+  TensionCurve out{tension_lb, r, {}, (1 - w) * a.stiffness + w * b.stiffness, 0, {}};
+  const std::size_t nodes = a.curve.size();
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const double e = -r + 2 * r * static_cast<double>(n) / static_cast<double>(nodes - 1);
+    out.curve.emplace_back(e, (1 - w) * a.curve[n].second + w * b.curve[n].second);
   }
   return out;
 }
@@ -138,23 +146,20 @@ TensionFrictionFit fit_extended_by_tension(const std::vector<DamperRecord>& trai
         groups.empty() ? 0.0 : groups.begin()->first));
   }
   TensionFrictionFit best;
-  double best_sse = std::numeric_limits<double>::infinity();
-  for (const double width : candidate_half_widths(options)) {
-    std::vector<TensionCurve> curves;
-    double sse = 0;
-    std::size_t samples = 0;
-    for (const auto& [tension, records] : groups) {
+  for (const auto& [tension, records] : groups) {
+    TensionCurve group{tension, 0, {}, 0, records.size(), {}};
+    double best_sse = std::numeric_limits<double>::infinity();
+    for (const double width : candidate_half_widths(options)) {
       const CurveAtWidth c = fit_curve_at_width(records, width, options);
-      curves.push_back({tension, on_grid(c.curve, width, options.points), c.stiffness, records.size()});
-      sse += c.squared_error;
-      samples += c.samples;
+      group.train_error_by_width.emplace_back(width, std::sqrt(c.squared_error / static_cast<double>(c.samples)));
+      if (c.squared_error < best_sse) {
+        best_sse = c.squared_error;
+        group.half_width = width;
+        group.curve = on_grid(c.curve, width, options.points);
+        group.stiffness = c.stiffness;
+      }
     }
-    best.train_error_by_width.emplace_back(width, std::sqrt(sse / static_cast<double>(samples)));
-    if (sse < best_sse) {
-      best_sse = sse;
-      best.half_width = width;
-      best.tensions = std::move(curves);
-    }
+    best.tensions.push_back(std::move(group));
   }
   double sum = 0;
   for (std::size_t i = 0; i < train.size(); ++i) {
@@ -168,16 +173,16 @@ TensionFrictionFit fit_extended_by_tension(const std::vector<DamperRecord>& trai
 std::string band_tension_in_words(const TensionFrictionFit& fit, const TestErrors& errors) {
   std::string levels;
   for (const auto& c : fit.tensions) {
-    levels += fmt::format("{}{:g} lb: {:.2f} / {:.2f}", levels.empty() ? "" : ", ", c.tension_lb,
-                          c.curve.back().second, c.curve.front().second);
+    levels += fmt::format("{}{:g} lb: {:.2f} / {:.2f} (r = {:.2f})", levels.empty() ? "" : ", ", c.tension_lb,
+                          c.curve.back().second, c.curve.front().second, c.half_width);
   }
   const double removed = errors.extended > 0 ? 1.0 - errors.with_dynamics / errors.extended : 0.0;
   return fmt::format(
       "the friction force scales with band tension: the upper plateau G(+r) by {:+.3f} and the lower G(-r) by "
-      "{:+.3f} per lb (plateaus up / down at {}; r = {:.2f} shared, identified on the training files only); with "
+      "{:+.3f} per lb (plateaus up / down at {}; identified on the training files only); with "
       "the friction level of each file's tension the squared error on the test files {} by {:.1f} % (mean test fit "
       "{:.1f} % -> {:.1f} %)",
-      fit.plateau_slope(true), fit.plateau_slope(false), levels, fit.half_width, removed >= 0 ? "drops" : "grows",
+      fit.plateau_slope(true), fit.plateau_slope(false), levels, removed >= 0 ? "drops" : "grows",
       100 * std::fabs(removed), errors.mean_fit_extended, errors.mean_fit_dynamics);
 }
 

@@ -1,10 +1,10 @@
 // The friction damper's band tension as a model input (docs/friction-damper.md): the friction-gap operator fitted
 // per band tension on the training files, and interpolated in tension for any other file.
 //
-// A band brake's friction force grows with the band tension. The model keeps one play half-width r for all
-// tensions (the geometry of the backlash) and fits G and k per training tension T_i. For a file at tension T, every
-// node of G (on a common grid of [-r, r]) and k are linear in T between the two nearest training tensions, and
-// extrapolated along the two nearest ones outside their range.
+// A band brake's friction force grows with the band tension. The model fits the friction-gap operator (r, G, k) per
+// training tension T_i, exactly as fit_extended() on that tension's files. For a file at tension T, r, k and every
+// node of G (on `points` equally spaced nodes of [-r, r], node n matched with node n) are linear in T between the
+// two nearest training tensions, and extrapolated along the two nearest ones outside their range.
 #pragma once
 
 #include <cstddef>
@@ -42,18 +42,18 @@ std::optional<double> file_tension(const std::string& source, std::span<const Te
 /// G and k of the friction-gap operator at one training tension.
 struct TensionCurve {
   double tension_lb = 0;
-  std::vector<std::pair<double, double>> curve;  ///< G on the common grid of [-r, r]
+  double half_width = 0;                         ///< r of the play at this tension
+  std::vector<std::pair<double, double>> curve;  ///< G on equally spaced nodes of [-r, r]
   double stiffness = 0;                          ///< k
   std::size_t files = 0;                         ///< training files at this tension
+  std::vector<std::pair<double, double>> train_error_by_width;  ///< (r, training RMS error) at this tension
 };
 
 struct TensionFrictionFit {
-  double half_width = 0;               ///< r, shared by every tension
   std::vector<TensionCurve> tensions;  ///< one per training tension, increasing
   double fit_train = 0;                ///< mean training fit (%), each file simulated at its own tension
-  std::vector<std::pair<double, double>> train_error_by_width;  ///< (r, training RMS error)
 
-  /// G and k interpolated (or extrapolated) linearly in tension, node by node.
+  /// r, k and G interpolated (or extrapolated) linearly in tension, node by node.
   TensionCurve at(double tension_lb) const;
   std::unique_ptr<FrictionGapOperator> make(double tension_lb) const;
   /// Least-squares slope over the training tensions of G(+r) (`upper` true) or G(-r) (force per lb).
@@ -62,9 +62,9 @@ struct TensionFrictionFit {
   bool extrapolates(double tension_lb) const;
 };
 
-/// Fits the model on the training records, `tensions_lb[i]` being the band tension of train[i]. For each candidate
-/// r (candidate_half_widths()): G and k per tension by fit_curve_at_width() on that tension's files; the r with the
-/// least training squared error summed over the tensions is kept. Throws std::invalid_argument when the sizes
+/// Fits the model on the training records, `tensions_lb[i]` being the band tension of train[i]. Per tension, for each
+/// candidate r (candidate_half_widths()): G and k by fit_curve_at_width() on that tension's files; the r with the
+/// least training squared error at that tension is kept. Throws std::invalid_argument when the sizes
 /// differ, when there are fewer than two distinct tensions (naming the one found), or for a tension that is not
 /// finite and >= 0 (naming the file).
 TensionFrictionFit fit_extended_by_tension(const std::vector<DamperRecord>& train, std::span<const double> tensions_lb,
