@@ -131,6 +131,25 @@ TEST(BandTension, FitRefusesOneTensionAndBadInput) {
   }
 }
 
+// A tension far outside the training tensions (the file name or --tension can say 1e308 lb): the extrapolated play
+// width, force and stiffness are finite, or it is an error; never a table over [-inf, inf] or of NaN.
+TEST(BandTension, ExtrapolationFarOutsideIsFiniteOrAClearError) {
+  TensionFrictionFit fit;
+  fit.tensions = {{30, 0.16, {{-0.16, -2.0}, {0.16, 2.5}}, 0, 1, {}},
+                  {36, 0.18, {{-0.18, -3.6}, {0.18, 3.0}}, 0, 1, {}}};
+  EXPECT_NEAR(fit.at(42).half_width, 0.20, 1e-12);  // an ordinary extrapolation
+  const TensionCurve far = fit.at(1e308);
+  EXPECT_TRUE(std::isfinite(far.half_width) && std::isfinite(far.stiffness));
+  for (const auto& [e, g] : far.curve) EXPECT_TRUE(std::isfinite(e) && std::isfinite(g)) << e << " " << g;
+  fit.tensions[1].curve = {{-0.18, -1e300}, {0.18, 1e300}};  // the force per lb overflows at 1e10 lb
+  try {
+    fit.at(1e10);
+    ADD_FAILURE() << "an infinite force was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be extrapolated to 1e+10 lb"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BandTension, CauseIsNamedAboveItsShareOfTheError) {
   TensionFrictionFit fit;
   fit.tensions = {{30, 0.16, {{-0.16, -2.0}, {0.16, 2.5}}, 0, 1, {}}, {36, 0.16, {{-0.16, -3.6}, {0.16, 3.0}}, 0, 1, {}}};

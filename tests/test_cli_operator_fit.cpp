@@ -131,6 +131,26 @@ TEST_F(OperatorFitCli, BadDataNamesFileLineAndColumnAndWritesNothing) {
   EXPECT_TRUE(Contains(missing.err, "nocol.csv:1: no column 'x_in'"));
 }
 
+// Issue 14 section 6: x_in near +1e308 and -1e308 (a span of inf) was undefined behaviour in the bin index of the
+// borders. Now a clear error naming the file, line and column, a non-zero exit, and no file written; as a training
+// file and as a test file.
+TEST_F(OperatorFitCli, DisplacementSpanningMoreThanTheDoubleRangeNamesTheFileAndWritesNothing) {
+  std::ofstream(work_ / "huge.csv") << "t_s,x_in,F_kip\n0,1e308,0\n0.001,-1e308,1\n0.002,1e308,-1\n";
+  for (const auto& role : {"--train", "--test"}) {
+    const std::vector<std::string> files = std::string(role) == "--train"
+                                               ? std::vector<std::string>{"--train", "huge.csv", "--test", kTest1}
+                                               : std::vector<std::string>{"--train", kTrain, "--test", "huge.csv"};
+    std::vector<std::string> args{"operator-fit"};
+    args.insert(args.end(), files.begin(), files.end());
+    args.insert(args.end(), {"--json", "fit.json", "--plot", "fit.png"});
+    const Outcome r = run(args);
+    EXPECT_NE(r.exit_code, 0) << r;
+    EXPECT_TRUE(Contains(r.err, "huge.csv:2: column 'x_in': 1e+308 is beyond 1e+12 in magnitude")) << r;
+    EXPECT_TRUE(Contains(r.err, "not a displacement in inches")) << r;
+    EXPECT_EQ(files_below(work_), (std::set<std::string>{"huge.csv"})) << role;
+  }
+}
+
 TEST_F(OperatorFitCli, MissingGnuplotIsAClearErrorAndNothingIsWritten) {
   const Outcome r = run({"operator-fit", "--decimate", "16", "--train", kTrain, "--test", kTest1, "--json",
                          "fit.json", "--plot", "loops.png", "--gnuplot", "/nonexistent/gnuplot"});

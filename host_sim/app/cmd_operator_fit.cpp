@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
+#include "lashid/io/data_error.hpp"
 #include "lashid/io/files.hpp"
 #include "lashid/operator_fit/band_tension.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
@@ -216,7 +217,12 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
 // Sampling rate of the (possibly decimated) training records: samples per second over the first file's span.
 double sampling_rate(const std::vector<DamperRecord>& train) {
   const DamperRecord& r = train.front();
-  return static_cast<double>(r.t.size() - 1) / (r.t.back() - r.t.front());
+  const double rate = static_cast<double>(r.t.size() - 1) / (r.t.back() - r.t.front());
+  if (!std::isfinite(rate) || !(rate > 0)) {
+    throw DataError(r.source, fmt::format("{} samples in {:g} s: the sampling rate ({:g} per s) is not finite",
+                                          r.t.size(), r.t.back() - r.t.front(), rate));
+  }
+  return rate;
 }
 
 // The filter after the final operator (per band tension when on, each file at its own tension), from the training

@@ -88,7 +88,7 @@ TensionCurve TensionFrictionFit::at(double tension_lb) const {
   const TensionCurve& b = tensions[i + 1];
   const double w = (tension_lb - a.tension_lb) / (b.tension_lb - a.tension_lb);
   const double r = (1 - w) * a.half_width + w * b.half_width;
-  if (!(r > 0) || a.curve.size() != b.curve.size()) {
+  if (!(r > 0) || !std::isfinite(2 * r) || a.curve.size() != b.curve.size()) {
     throw std::invalid_argument(fmt::format("the operator per band tension cannot be extrapolated to {:g} lb (play "
                                             "half-width {:g})",
                                             tension_lb, r));
@@ -98,6 +98,16 @@ TensionCurve TensionFrictionFit::at(double tension_lb) const {
   for (std::size_t n = 0; n < nodes; ++n) {
     const double e = -r + 2 * r * static_cast<double>(n) / static_cast<double>(nodes - 1);
     out.curve.emplace_back(e, (1 - w) * a.curve[n].second + w * b.curve[n].second);
+    if (!std::isfinite(out.curve.back().second)) {
+      throw std::invalid_argument(fmt::format("the operator per band tension cannot be extrapolated to {:g} lb (its "
+                                              "force is not finite there)",
+                                              tension_lb));
+    }
+  }
+  if (!std::isfinite(out.stiffness)) {
+    throw std::invalid_argument(
+        fmt::format("the operator per band tension cannot be extrapolated to {:g} lb (stiffness not finite)",
+                    tension_lb));
   }
   return out;
 }

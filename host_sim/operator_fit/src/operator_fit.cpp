@@ -14,18 +14,20 @@ namespace lashid::sim {
 
 namespace {
 
-// Nearest node of an equally spaced grid of `points` nodes over [lo, hi].
+// Nearest node of an equally spaced grid of `points` nodes over [lo, hi] (a finite span, see median_table). Defined
+// for every v: below the grid, and NaN, give node 0, above it the last node, so the cast never sees inf or NaN.
 std::size_t nearest_node(double v, double lo, double hi, int points) {
   const double position = (v - lo) / (hi - lo) * (points - 1);
-  const double clamped = std::clamp(std::round(position), 0.0, static_cast<double>(points - 1));
-  return static_cast<std::size_t>(clamped);
+  if (!(position > 0)) return 0;
+  return static_cast<std::size_t>(std::min(std::round(position), static_cast<double>(points - 1)));
 }
 
 std::vector<std::pair<double, double>> median_table(std::span<const std::pair<double, double>> samples, double lo,
                                                     double hi, int points) {
-  if (points < 2 || !(lo < hi)) {
-    throw std::invalid_argument(fmt::format("fit_border: need points >= 2 and lo < hi, got {}, [{}, {}]", points,
-                                            lo, hi));
+  if (points < 2 || !(lo < hi) || !std::isfinite(hi - lo)) {
+    throw std::invalid_argument(fmt::format("fit_border: need points >= 2 and lo < hi with a finite span hi - lo, "
+                                            "got {}, [{}, {}]",
+                                            points, lo, hi));
   }
   std::vector<std::vector<double>> bins(static_cast<std::size_t>(points));
   for (const auto& [v, u] : samples) bins[nearest_node(v, lo, hi, points)].push_back(u);
@@ -42,6 +44,7 @@ void require_training(const std::vector<DamperRecord>& train) {
   if (train.empty()) throw std::invalid_argument("no training records");
   for (const auto& r : train) {
     if (r.v.size() < 2) throw std::invalid_argument(fmt::format("{}: fewer than 2 samples", r.source));
+    check_damper_values(r);  // bounded v and u: every span, bin index and sum of squares below stays finite
   }
 }
 

@@ -359,7 +359,10 @@ ErrorOscillation error_oscillation(std::span<const double> measured, std::span<c
   std::vector<double> error(n), fast(n);
   for (std::size_t t = 0; t < n; ++t) error[t] = measured[t] - simulated[t];
   // Centred moving mean by a running sum; the window shrinks at the ends of the record.
-  const auto half = static_cast<std::size_t>(std::max(1.0, std::round(window_s * sample_rate / 2)));
+  // Clamped to the record before the cast, so that a huge or infinite sample rate stays defined.
+  const double half_window = std::round(window_s * sample_rate / 2);
+  const auto half = static_cast<std::size_t>(
+      half_window >= 1 ? std::min(half_window, static_cast<double>(std::max<std::size_t>(n, 1))) : 1.0);
   std::vector<double> cumulative(n + 1, 0.0);
   for (std::size_t t = 0; t < n; ++t) cumulative[t + 1] = cumulative[t] + error[t];
   double total = 0, fast_energy = 0;
