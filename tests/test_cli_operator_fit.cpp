@@ -1,5 +1,6 @@
 // End-to-end tests of `lashid operator-fit` (LASHID_EXE) on the measured damper data (LASHID_DAMPER_DATA): what
 // it writes, its errors, and that a failing run leaves no file behind.
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -46,6 +47,77 @@ TEST_F(OperatorFitCli, WritesTheFitsOfBothModelsPerTestFile) {
   EXPECT_EQ(j["options"]["decimate"], 8);
 }
 
+// The dynamics after the operator: a filter of an order in 2..4 chosen on the single training file (its halves),
+// its poles with their meaning at the decimated rate 1024 / 8 = 128 Hz (Nyquist 64 Hz), and the three fits per test
+// file.
+TEST_F(OperatorFitCli, ReportsTheDynamicsAfterTheOperatorPerTestFile) {
+  const Outcome r = run({"operator-fit", "--decimate", "8", "--train", kTrain, "--test", kTest1, kTest2, "--json",
+                         "fit.json"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.out, "extended + dynamics"));
+  const json j = json::parse(slurp(work_ / "fit.json"));
+  const json& model = j["dynamics"]["model"];
+  const int order = model["order"].get<int>();
+  EXPECT_GE(order, 2);
+  EXPECT_LE(order, 4);
+  EXPECT_EQ(model["a"].size(), static_cast<std::size_t>(order));
+  EXPECT_EQ(model["b"].size(), static_cast<std::size_t>(order) + 1);
+  EXPECT_NEAR(model["sample_rate_hz"].get<double>(), 128.0, 1e-4);  // times in the files have 8 digits
+  EXPECT_EQ(j["dynamics"]["order_selection"]["scores"].size(), 3U);
+  ASSERT_EQ(model["poles"].size(), static_cast<std::size_t>(order));
+  for (const auto& p : model["poles"]) {
+    EXPECT_LT(p["magnitude"].get<double>(), 1.0);  // refined filters stay stable
+    EXPECT_LE(p["natural_hz"].get<double>(), 64.0 * std::sqrt(2.0) + 1e-9);  // |ln z| <= sqrt(ln^2 r + pi^2)
+  }
+  for (const auto& file : {kTest1, kTest2}) {
+    const json& fits = j["fit_test"][file];
+    EXPECT_EQ(fits["extended"], j["extended"]["fit_test"][file]);
+    EXPECT_EQ(fits["extended_dynamics"], j["dynamics"]["fit_test"][file]);
+    EXPECT_TRUE(fits["extended_dynamics"].is_number()) << file;
+    EXPECT_TRUE(j["loop_analysis"][file]["extended_error_oscillation"]["peak_hz"].is_number());
+  }
+  EXPECT_TRUE(j["dynamics_in_words"]["named_as_cause"].is_boolean());
+  EXPECT_TRUE(Contains(j["dynamics_in_words"]["text"].get<std::string>(), "identified on the training files only"));
+}
+
+// Training at 30 and 36 lb: the operator per band tension, each test file at its own tension (from its name, or
+// --tension for the earthquake record, whose name has none).
+TEST_F(OperatorFitCli, FitsTheOperatorPerBandTension) {
+  const std::string train36 = kData + "/char_1Hz36lbtension1.5amplitude.csv";
+  const Outcome r = run({"operator-fit", "--decimate", "16", "--train", kTrain, train36, "--test", kTest1, kTest2,
+                         "--tension", "eq_KocaeliDBE.csv=36", "--json", "fit.json"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const json j = json::parse(slurp(work_ / "fit.json"));
+  EXPECT_EQ(j["tension_lb"]["train"], json({30.0, 36.0}));
+  EXPECT_EQ(j["tension_lb"]["test"], json({30.0, 36.0}));
+  const json& tensions = j["extended_tension"]["model"]["tensions"];
+  ASSERT_EQ(tensions.size(), 2U);
+  EXPECT_EQ(tensions[0]["tension_lb"], 30.0);
+  EXPECT_EQ(tensions[1]["tension_lb"], 36.0);
+  for (const auto& file : {kTest1, kTest2}) {
+    EXPECT_EQ(j["fit_test"][file]["extended_tension"], j["extended_tension"]["fit_test"][file]);
+  }
+  EXPECT_TRUE(Contains(j["tension_in_words"]["text"].get<std::string>(), "scales with band tension"));
+}
+
+TEST_F(OperatorFitCli, MissingOrBadTensionNamesTheFileAndWritesNothing) {
+  const std::string train36 = kData + "/char_1Hz36lbtension1.5amplitude.csv";
+  const Outcome missing = run({"operator-fit", "--decimate", "16", "--train", kTrain, train36, "--test", kTest1,
+                               kTest2, "--json", "fit.json"});
+  EXPECT_EQ(missing.exit_code, 1) << missing;
+  EXPECT_TRUE(Contains(missing.err, "eq_KocaeliDBE.csv: band tension unknown")) << missing;
+  EXPECT_TRUE(Contains(missing.err, "--tension eq_KocaeliDBE.csv=LB")) << missing;
+  const Outcome unknown = run({"operator-fit", "--decimate", "16", "--train", kTrain, "--test", kTest1,
+                               "--tension", "other.csv=36"});
+  EXPECT_EQ(unknown.exit_code, 1) << unknown;
+  EXPECT_TRUE(Contains(unknown.err, "--tension 'other.csv=36': no --train or --test file is named 'other.csv'"));
+  const Outcome bad = run({"operator-fit", "--decimate", "16", "--train", kTrain, "--test", kTest1, "--tension",
+                           "eq_KocaeliDBE.csv=heavy"});
+  EXPECT_EQ(bad.exit_code, 1) << bad;
+  EXPECT_TRUE(Contains(bad.err, "'heavy' is not a band tension in lb"));
+  EXPECT_TRUE(files_below(work_).empty());
+}
+
 TEST_F(OperatorFitCli, BadDataNamesFileLineAndColumnAndWritesNothing) {
   std::ofstream(work_ / "bad.csv") << "t_s,x_in,F_kip\n0,0,0\n0.1,nan,0\n";
   const Outcome r = run({"operator-fit", "--train", "bad.csv", "--test", kTest1, "--json", "fit.json"});
@@ -57,6 +129,26 @@ TEST_F(OperatorFitCli, BadDataNamesFileLineAndColumnAndWritesNothing) {
   const Outcome missing = run({"operator-fit", "--train", kTrain, "--test", "nocol.csv"});
   EXPECT_EQ(missing.exit_code, 1) << missing;
   EXPECT_TRUE(Contains(missing.err, "nocol.csv:1: no column 'x_in'"));
+}
+
+// Issue 14 section 6: x_in near +1e308 and -1e308 (a span of inf) was undefined behaviour in the bin index of the
+// borders. Now a clear error naming the file, line and column, a non-zero exit, and no file written; as a training
+// file and as a test file.
+TEST_F(OperatorFitCli, DisplacementSpanningMoreThanTheDoubleRangeNamesTheFileAndWritesNothing) {
+  std::ofstream(work_ / "huge.csv") << "t_s,x_in,F_kip\n0,1e308,0\n0.001,-1e308,1\n0.002,1e308,-1\n";
+  for (const auto& role : {"--train", "--test"}) {
+    const std::vector<std::string> files = std::string(role) == "--train"
+                                               ? std::vector<std::string>{"--train", "huge.csv", "--test", kTest1}
+                                               : std::vector<std::string>{"--train", kTrain, "--test", "huge.csv"};
+    std::vector<std::string> args{"operator-fit"};
+    args.insert(args.end(), files.begin(), files.end());
+    args.insert(args.end(), {"--json", "fit.json", "--plot", "fit.png"});
+    const Outcome r = run(args);
+    EXPECT_NE(r.exit_code, 0) << r;
+    EXPECT_TRUE(Contains(r.err, "huge.csv:2: column 'x_in': 1e+308 is beyond 1e+12 in magnitude")) << r;
+    EXPECT_TRUE(Contains(r.err, "not a displacement in inches")) << r;
+    EXPECT_EQ(files_below(work_), (std::set<std::string>{"huge.csv"})) << role;
+  }
 }
 
 TEST_F(OperatorFitCli, MissingGnuplotIsAClearErrorAndNothingIsWritten) {

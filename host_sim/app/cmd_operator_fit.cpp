@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,13 +15,17 @@
 #include "commands.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
+#include "lashid/io/data_error.hpp"
 #include "lashid/io/files.hpp"
+#include "lashid/operator_fit/band_tension.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
+#include "lashid/operator_fit/output_dynamics.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/plot.hpp"
 #include "lashid/report/report.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "operator_fit_report.hpp"
 
 namespace lashid::app {
 
@@ -32,71 +38,6 @@ std::vector<DamperRecord> load(const std::vector<std::string>& files, int factor
   std::vector<DamperRecord> out;
   for (const auto& f : files) out.push_back(decimate(read_damper_csv(f), factor));
   return out;
-}
-
-json table_json(const std::vector<std::pair<double, double>>& table) {
-  json out = json::array();
-  for (const auto& [x, y] : table) out.push_back({x, y});
-  return out;
-}
-
-json border_json(const Border& border, int points) {
-  std::vector<std::pair<double, double>> table;
-  for (int i = 0; i < points; ++i) {
-    const double v = border.lo() + (border.hi() - border.lo()) * i / (points - 1);
-    table.emplace_back(v, border(v));
-  }
-  return table_json(table);
-}
-
-json analysis_json(const LoopAnalysis& a) {
-  json phases = json::object();
-  for (const auto& p : a.phases) {
-    phases[p.phase] = {{"samples", p.samples}, {"share_of_squared_error", p.share_of_squared_error}, {"rms", p.rms}};
-  }
-  return {{"phases", phases},
-          {"reversals", a.reversals},
-          {"plateau", a.plateau},
-          {"measured_reversal_slope", a.measured_reversal_slope},
-          {"simulated_reversal_slope", a.simulated_reversal_slope},
-          {"measured_gap", a.measured_gap},
-          {"simulated_gap", a.simulated_gap},
-          {"measured_gap_centre_spread", a.measured_gap_centre_spread},
-          {"peak_speed", a.peak_speed}};
-}
-
-void print_analysis(const std::string& model, const LoopAnalysis& a, std::size_t n, const LoopPhaseOptions& o) {
-  fmt::print("  {} model, error by phase of the loop ({} reversals):\n", model, a.reversals);
-  for (const auto& p : a.phases) {
-    fmt::print("    {:<11} {:5.1f} % of the samples, {:5.1f} % of the squared error, RMS {:.3f}\n", p.phase,
-               100.0 * static_cast<double>(p.samples) / static_cast<double>(n), 100.0 * p.share_of_squared_error,
-               p.rms);
-  }
-  const auto worst = std::max_element(a.phases.begin(), a.phases.end(), [](const auto& x, const auto& y) {
-    return x.share_of_squared_error < y.share_of_squared_error;
-  });
-  fmt::print("    In words: {:.0f} % of the squared error is in the {} phase. Over the first {} of travel after a "
-             "reversal the measured force changes at {:.1f} per unit of v, the simulation at {:.1f}; per half-cycle "
-             "the measured force stays below 10 % of the friction level ({:.2f}) for {:.3f} of travel, the "
-             "simulated one for {:.3f}.\n",
-             100.0 * worst->share_of_squared_error, worst->phase, o.reversal_window, a.measured_reversal_slope,
-             a.simulated_reversal_slope, a.plateau, a.measured_gap, a.simulated_gap);
-}
-
-json causes_json(const std::vector<DamperCause>& causes) {
-  json out = json::array();
-  for (const auto& c : causes) {
-    out.push_back({{"name", c.name}, {"in_extended_model", c.in_extended_model}, {"evidence", c.evidence}});
-  }
-  return out;
-}
-
-void print_causes(const std::vector<DamperCause>& causes) {
-  fmt::print("\nCauses supported by the errors on the test files:\n");
-  for (const auto& c : causes) {
-    fmt::print("  - {} ({}): {}\n", c.name, c.in_extended_model ? "in the extended model" : "not modelled",
-               c.evidence);
-  }
 }
 
 json run_identification(const HysteresisOperator& actuator, double v_min, double v_max) {
@@ -114,61 +55,195 @@ json run_identification(const HysteresisOperator& actuator, double v_min, double
   return out;
 }
 
+// The band tension of every file, and the operator per tension when the training files span two tensions or more.
+struct Tensions {
+  std::vector<double> train;  // lb, one per training file (empty when the tension model is off)
+  std::vector<double> test;   // lb, one per test file (same)
+  std::optional<TensionFrictionFit> fit;
+  std::string off_reason;     // why the tension model is off
+};
+
+// The tension of every file from --tension FILE=LB or the file name (tension_from_file_name). Off when no training
+// file has one or all have the same; then test files need none. On: every file needs one, or a clear error.
+Tensions resolve_tensions(const OperatorFitArgs& args, const std::vector<DamperRecord>& train,
+                          const std::vector<DamperRecord>& test) {
+  std::vector<TensionOverride> overrides;
+  for (const auto& text : args.tension) {
+    overrides.push_back(parse_tension_override(text));
+    const auto names = [&](const std::vector<DamperRecord>& records) {
+      return std::any_of(records.begin(), records.end(), [&](const DamperRecord& r) {
+        return r.source == overrides.back().file ||
+               std::filesystem::path(r.source).filename().string() == overrides.back().file;
+      });
+    };
+    if (!names(train) && !names(test)) {
+      throw std::invalid_argument(fmt::format("--tension '{}': no --train or --test file is named '{}'", text,
+                                              overrides.back().file));
+    }
+  }
+  Tensions out;
+  std::vector<std::optional<double>> train_lb;
+  for (const auto& r : train) train_lb.push_back(file_tension(r.source, overrides));
+  const auto unknown = std::find(train_lb.begin(), train_lb.end(), std::nullopt);
+  if (unknown == train_lb.end() || std::all_of(train_lb.begin(), train_lb.end(), [](auto t) { return !t; })) {
+    std::vector<double> known;
+    for (const auto& t : train_lb) {
+      if (t) known.push_back(*t);
+    }
+    if (known.empty()) {
+      out.off_reason = "no training file has a band tension (no '<T>lbtension' in its name, no --tension)";
+      return out;
+    }
+    if (std::all_of(known.begin(), known.end(), [&](double t) { return t == known.front(); })) {
+      out.off_reason = fmt::format("all training files are at {:g} lb", known.front());
+      return out;
+    }
+    out.train = known;
+  }
+  const auto need = [](const DamperRecord& r, const std::optional<double>& t) {
+    if (!t) {
+      throw std::invalid_argument(fmt::format(
+          "{}: band tension unknown: its name has no '<T>lbtension' and no --tension {}=LB was given (the training "
+          "files span two band tensions, so every file needs one)",
+          r.source, std::filesystem::path(r.source).filename().string()));
+    }
+    return *t;
+  };
+  if (out.train.empty()) need(train[static_cast<std::size_t>(unknown - train_lb.begin())], std::nullopt);
+  for (const auto& r : test) out.test.push_back(need(r, file_tension(r.source, overrides)));
+  return out;
+}
+
 // What the models do on the test files, one entry per file in the order of the files.
 struct TestResults {
   json fit_nominal = json::object();   // file -> fit (%)
   json fit_extended = json::object();  // file -> fit (%)
-  json loops = json::object();         // file -> both loop analyses
+  json fit_tension = json::object();   // file -> fit (%) of the operator per band tension (when on)
+  json fit_dynamics = json::object();  // file -> fit (%) of the final operator followed by B/A
+  json loops = json::object();         // file -> the loop analyses
   std::vector<LoopAnalysis> nominal;
-  std::vector<LoopAnalysis> extended;
+  std::vector<LoopAnalysis> final_operator;  // the tension model when on, else the tension-blind extended one
+  TestErrors dynamics_gain;  // squared errors of the final operator without and with the dynamics
+  TestErrors tension_gain;   // squared errors of the tension-blind and the tension model
 };
 
-// Simulates both models on every test file, prints their fits and loop analyses, and adds one panel per file.
+double squared_error(const DamperRecord& rec, const std::vector<double>& u_sim) {
+  double sum = 0;
+  for (std::size_t t = 0; t < rec.u.size(); ++t) sum += (rec.u[t] - u_sim[t]) * (rec.u[t] - u_sim[t]);
+  return sum;
+}
+
+// Simulates the models on every test file, prints their fits and loop analyses, and adds one panel per file.
 TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const NominalFit& nominal,
                                 const HysteresisOperator& nominal_op, const HysteresisOperator& extended_op,
+                                const Tensions& tensions, const OutputFilter& dynamics, double rate,
                                 const LoopPhaseOptions& phase_options, report::plot::Figure& figure) {
   TestResults out;
-  for (const auto& rec : test) {
+  const double files = static_cast<double>(test.size());
+  for (std::size_t i = 0; i < test.size(); ++i) {
+    const DamperRecord& rec = test[i];
     const auto u_nom = simulate_operator(nominal_op, rec.v, rec.u.front());
     const auto u_ext = simulate_operator(extended_op, rec.v, rec.u.front());
+    const auto u_fin = tensions.fit ? simulate_operator(*tensions.fit->make(tensions.test[i]), rec.v, rec.u.front())
+                                    : u_ext;
+    const auto u_dyn = dynamics.apply(u_fin, rec.u.front());
     const double f_nom = fit_to_record(rec, u_nom), f_ext = fit_to_record(rec, u_ext);
+    const double f_fin = fit_to_record(rec, u_fin), f_dyn = fit_to_record(rec, u_dyn);
     out.fit_nominal[rec.source] = f_nom;
     out.fit_extended[rec.source] = f_ext;
-    fmt::print("{}: {} samples, test fit nominal ({}) {:.1f} %, extended {:.1f} %\n", rec.source, rec.v.size(),
-               nominal.chosen, f_nom, f_ext);
+    if (tensions.fit) out.fit_tension[rec.source] = f_fin;
+    out.fit_dynamics[rec.source] = f_dyn;
+    out.tension_gain.extended += squared_error(rec, u_ext);
+    out.tension_gain.with_dynamics += squared_error(rec, u_fin);
+    out.tension_gain.mean_fit_extended += f_ext / files;
+    out.tension_gain.mean_fit_dynamics += f_fin / files;
+    out.dynamics_gain.extended += squared_error(rec, u_fin);
+    out.dynamics_gain.with_dynamics += squared_error(rec, u_dyn);
+    out.dynamics_gain.mean_fit_extended += f_fin / files;
+    out.dynamics_gain.mean_fit_dynamics += f_dyn / files;
+    const std::string tension_text =
+        tensions.fit ? fmt::format(", extended at {:g} lb{} {:.1f} %", tensions.test[i],
+                                   tensions.fit->extrapolates(tensions.test[i]) ? " (extrapolated)" : "", f_fin)
+                     : "";
+    fmt::print("{}: {} samples, test fit nominal ({}) {:.1f} %, extended {:.1f} %{}, {} + dynamics {:.1f} %\n",
+               rec.source, rec.v.size(), nominal.chosen, f_nom, f_ext, tension_text,
+               tensions.fit ? "that" : "extended", f_dyn);
     const LoopAnalysis a_nom = analyse_loop(rec, u_nom, phase_options);
     const LoopAnalysis a_ext = analyse_loop(rec, u_ext, phase_options);
+    const LoopAnalysis a_fin = analyse_loop(rec, u_fin, phase_options);
+    const LoopAnalysis a_dyn = analyse_loop(rec, u_dyn, phase_options);
     print_analysis("nominal", a_nom, rec.v.size(), phase_options);
     print_analysis("extended", a_ext, rec.v.size(), phase_options);
+    if (tensions.fit) print_analysis("extended per band tension", a_fin, rec.v.size(), phase_options);
+    print_analysis(tensions.fit ? "extended per band tension + dynamics" : "extended + dynamics", a_dyn,
+                   rec.v.size(), phase_options);
+    // What the final operator still gets wrong: how much of its error is fast oscillation (chatter or ringing).
+    const ErrorOscillation osc = error_oscillation(rec.u, u_fin, rate);
+    // If that fast part stayed and everything else were right: ||e_fast|| = sqrt(share) ||e||, so the fit would be
+    // 100 - sqrt(share) (100 - fit). A ceiling for any model that cannot predict the oscillation's phase.
+    const double ceiling = 100 - std::sqrt(osc.fast_share) * (100 - f_fin);
+    fmt::print("  {} model's error: {:.0f} % of its energy changes faster than about 10 Hz (the error minus its "
+               "100 ms moving mean), with the largest amplitude, {:.3f}, at {:.0f} Hz; a model that still misses "
+               "that fast part fits at most {:.1f} %\n",
+               tensions.fit ? "Tension" : "Extended", 100 * osc.fast_share, osc.peak_amplitude, osc.peak_hz,
+               ceiling);
     out.nominal.push_back(a_nom);
-    out.extended.push_back(a_ext);
-    out.loops[rec.source] = {{"nominal", analysis_json(a_nom)}, {"extended", analysis_json(a_ext)}};
-    figure.panels.push_back({std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
-                             {{"measured", rec.v, rec.u},
-                              {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},
-                              {fmt::format("friction_gap, fit {:.1f} %", f_ext), rec.v, u_ext}}});
+    out.final_operator.push_back(a_fin);
+    out.loops[rec.source] = {{"nominal", analysis_json(a_nom)},
+                             {"extended", analysis_json(a_ext)},
+                             {"extended_dynamics", analysis_json(a_dyn)},
+                             {"extended_error_oscillation",
+                              {{"model", tensions.fit ? "extended_tension" : "extended"},
+                               {"fast_share", osc.fast_share},
+                               {"peak_hz", osc.peak_hz},
+                               {"peak_amplitude", osc.peak_amplitude},
+                               {"fit_ceiling_without_it", ceiling}}}};
+    if (tensions.fit) out.loops[rec.source]["extended_tension"] = analysis_json(a_fin);
+    report::plot::Panel panel{std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
+                              {{"measured", rec.v, rec.u},
+                               {fmt::format("{} (nominal), fit {:.1f} %", nominal.chosen, f_nom), rec.v, u_nom},
+                               {fmt::format("friction_gap, fit {:.1f} %", f_ext), rec.v, u_ext}}};
+    if (tensions.fit) {
+      panel.series.push_back({fmt::format("friction_gap at {:g} lb, fit {:.1f} %", tensions.test[i], f_fin), rec.v,
+                              u_fin});
+    }
+    panel.series.push_back({fmt::format("{} + B/A, fit {:.1f} %", tensions.fit ? "that" : "friction_gap", f_dyn),
+                            rec.v, u_dyn});
+    figure.panels.push_back(std::move(panel));
   }
   return out;
 }
 
-// The figure's last panel: the nominal borders (200 points each) and the friction-gap curve G.
-report::plot::Panel fitted_models_panel(const NominalFit& nominal, const ExtendedFit& extended) {
-  std::vector<double> e_axis, g_axis;
-  for (const auto& [e, g] : extended.curve) {
-    e_axis.push_back(e);
-    g_axis.push_back(g);
+// Sampling rate of the (possibly decimated) training records: samples per second over the first file's span.
+double sampling_rate(const std::vector<DamperRecord>& train) {
+  const DamperRecord& r = train.front();
+  const double rate = static_cast<double>(r.t.size() - 1) / (r.t.back() - r.t.front());
+  if (!std::isfinite(rate) || !(rate > 0)) {
+    throw DataError(r.source, fmt::format("{} samples in {:g} s: the sampling rate ({:g} per s) is not finite",
+                                          r.t.size(), r.t.back() - r.t.front(), rate));
   }
-  report::plot::Panel panel{"fitted models", "v (borders) or e = v - z (G)", "force u",
-                            {{"nominal C_a", {}, {}}, {"nominal C_d", {}, {}}, {"friction_gap G(e)", e_axis, g_axis}}};
-  for (std::size_t k = 0; k < 2; ++k) {
-    const Border& b = k == 0 ? nominal.ascending : nominal.descending;
-    for (int i = 0; i < 200; ++i) {
-      const double v = b.lo() + (b.hi() - b.lo()) * i / 199.0;
-      panel.series[k].x.push_back(v);
-      panel.series[k].y.push_back(b(v));
-    }
+  return rate;
+}
+
+// The filter after the final operator (per band tension when on, each file at its own tension), from the training
+// files only: input the operator's simulation, output the measured force.
+OutputDynamicsFit fit_dynamics(const std::vector<DamperRecord>& train, const HysteresisOperator& extended_op,
+                               const Tensions& tensions) {
+  std::vector<FilterData> data;
+  for (std::size_t i = 0; i < train.size(); ++i) {
+    const auto op = tensions.fit ? tensions.fit->make(tensions.train[i]) : extended_op.clone();
+    data.push_back({simulate_operator(*op, train[i].v, train[i].u.front()), train[i].u});
   }
-  return panel;
+  return fit_output_dynamics(data);
+}
+
+json summary_json(const TestResults& r) {
+  json out = json::object();
+  for (const auto& [file, fit] : r.fit_nominal.items()) {
+    out[file] = {{"nominal", fit}, {"extended", r.fit_extended[file]}, {"extended_dynamics", r.fit_dynamics[file]}};
+    if (r.fit_tension.contains(file)) out[file]["extended_tension"] = r.fit_tension[file];
+  }
+  return out;
 }
 
 // [min(0, min v), max(0, max v)] over the training files.
@@ -184,26 +259,7 @@ std::pair<double, double> training_range(const std::vector<DamperRecord>& train)
 json options_json(const OperatorFitArgs& args) {
   return {{"decimate", args.decimate}, {"points", args.points}, {"deadband", args.deadband},
           {"reversal_window", args.reversal_window}, {"engagement_window", args.engagement_window},
-          {"parallel_stiffness", !args.no_stiffness}};
-}
-
-json nominal_json(const NominalFit& nominal, int points, const json& fit_test) {
-  return {{"operator", nominal.chosen},
-          {"fit_train", {{"switch", nominal.fit_train_switch}, {"backlash", nominal.fit_train_backlash}}},
-          {"ascending", border_json(nominal.ascending, points)},
-          {"descending", border_json(nominal.descending, points)},
-          {"fit_test", fit_test}};
-}
-
-json extended_json(const ExtendedFit& extended, const HysteresisOperator& extended_op, const json& fit_test) {
-  return {{"model",
-           {{"operator", extended_op.name()},
-            {"half_width", extended.half_width},
-            {"stiffness", extended.stiffness},
-            {"curve", table_json(extended.curve)},
-            {"train_rms_by_half_width", table_json(extended.train_error_by_width)}}},
-          {"fit_train", extended.fit_train},
-          {"fit_test", fit_test}};
+          {"parallel_stiffness", !args.no_stiffness}, {"tension", args.tension}};
 }
 
 // Writes the figure, then the JSON; if the JSON cannot be written the figure is removed again.
@@ -235,6 +291,8 @@ int run_operator_fit(const OperatorFitArgs& args) {
   phase_options.reversal_window = args.reversal_window;
   phase_options.engagement_window = args.engagement_window;
 
+  Tensions tensions = resolve_tensions(args, train, test);  // before any fit: a missing tension is an input error
+
   const NominalFit nominal = fit_nominal(train, fit_options);
   const auto nominal_op = nominal.make();
   fmt::print("Nominal operators, borders = per-bin medians on {} points ({} training files): training fit switch "
@@ -242,27 +300,79 @@ int run_operator_fit(const OperatorFitArgs& args) {
              args.points, train.size(), nominal.fit_train_switch, nominal.fit_train_backlash, nominal.chosen);
   const ExtendedFit extended = fit_extended(train, fit_options);
   const auto extended_op = extended.make();
-  fmt::print("Extended operator friction_gap: play half-width r = {:.3f}, parallel stiffness k = {:.4f}, G on {} "
-             "points: training fit {:.1f} %\n\n",
+  fmt::print("Extended operator friction_gap (tension-blind): play half-width r = {:.3f}, parallel stiffness k = "
+             "{:.4f}, G on {} points: training fit {:.1f} %\n",
              extended.half_width, extended.stiffness, extended.curve.size(), extended.fit_train);
+  if (tensions.train.empty()) {
+    fmt::print("No operator per band tension: {}\n\n", tensions.off_reason);
+  } else {
+    tensions.fit = fit_extended_by_tension(train, tensions.train, fit_options);
+    print_tension(*tensions.fit);
+  }
+
+  const OutputDynamicsFit dynamics = fit_dynamics(train, *extended_op, tensions);
+  const double rate = sampling_rate(train);
+  const std::vector<FilterPole> poles = filter_poles(dynamics.filter, rate);
+  print_dynamics(dynamics, poles);
 
   report::plot::Figure figure;
-  figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended)",
-                             nominal.chosen);
-  const TestResults results = evaluate_test_files(test, nominal, *nominal_op, *extended_op, phase_options, figure);
+  figure.title = fmt::format("lashid operator-fit: measured vs {} (nominal) vs friction_gap (extended){} vs + B/A",
+                             nominal.chosen, tensions.fit ? " vs friction_gap per band tension" : "");
+  const TestResults results = evaluate_test_files(test, nominal, *nominal_op, *extended_op, tensions,
+                                                  dynamics.filter, rate, phase_options, figure);
   const auto [v_lo, v_hi] = training_range(train);
-  const std::vector<DamperCause> causes = damper_causes(results.nominal, results.extended, extended, v_hi - v_lo);
+  // The causes are judged on the final operator: per band tension, its parallel stiffness is the largest |k|.
+  ExtendedFit judged = extended;
+  if (tensions.fit) {
+    judged.stiffness = 0;
+    for (const auto& c : tensions.fit->tensions) {
+      if (std::fabs(c.stiffness) >= std::fabs(judged.stiffness)) judged.stiffness = c.stiffness;
+    }
+  }
+  std::vector<DamperCause> causes = damper_causes(results.nominal, results.final_operator, judged, v_hi - v_lo);
+  json tension_words = nullptr;
+  if (tensions.fit) {
+    auto scaling = friction_level_scales_with_band_tension(*tensions.fit, results.tension_gain);
+    tension_words = {{"named_as_cause", scaling.has_value()},
+                     {"text", band_tension_in_words(*tensions.fit, results.tension_gain)}};
+    if (scaling) causes.push_back(std::move(*scaling));
+  }
+  const std::string dynamics_words = output_dynamics_in_words(poles, dynamics.filter.order(), results.dynamics_gain);
+  auto ringing = dynamics_after_friction_element(poles, dynamics.filter.order(), results.dynamics_gain);
+  const bool dynamics_named = ringing.has_value();
+  if (ringing) causes.push_back(std::move(*ringing));
   print_causes(causes);
-  figure.panels.push_back(fitted_models_panel(nominal, extended));
+  if (tensions.fit && !tension_words["named_as_cause"].get<bool>()) {
+    fmt::print("  - not named: friction_level_scales_with_band_tension, too little gain (< {:.0f} % of the squared "
+               "error): {}\n",
+               100 * DamperCauseOptions{}.band_tension_error_reduction, tension_words["text"].get<std::string>());
+  }
+  if (!dynamics_named) {
+    fmt::print("  - not named: dynamics_after_friction_element, too little gain (< {:.0f} % of the squared error): "
+               "{}\n",
+               100 * DamperCauseOptions{}.dynamics_error_reduction, dynamics_words);
+  }
+  figure.panels.push_back(fitted_models_panel(nominal, extended, tensions.fit ? &*tensions.fit : nullptr));
 
-  const json identification = run_identification(*extended_op, v_lo, v_hi);
-  const json document = {{"train", args.train},
-                         {"options", options_json(args)},
-                         {"nominal", nominal_json(nominal, args.points, results.fit_nominal)},
-                         {"extended", extended_json(extended, *extended_op, results.fit_extended)},
-                         {"cause", causes_json(causes)},
-                         {"loop_analysis", results.loops},
-                         {"identification", identification}};
+  // The actuator of DIS/AIS: the final operator, at the lowest training tension when it is per band tension.
+  const auto actuator = tensions.fit ? tensions.fit->make(tensions.fit->tensions.front().tension_lb)
+                                     : extended.make();
+  const json identification = run_identification(*actuator, v_lo, v_hi);
+  const std::string chain = tensions.fit ? "friction_gap per band tension -> B(q)/A(q)" : "friction_gap -> B(q)/A(q)";
+  const json document = {
+      {"train", args.train},
+      {"options", options_json(args)},
+      {"tension_lb", {{"train", tensions.train}, {"test", tensions.test}, {"off_reason", tensions.off_reason}}},
+      {"nominal", nominal_json(nominal, args.points, results.fit_nominal)},
+      {"extended", extended_json(extended, *extended_op, results.fit_extended)},
+      {"extended_tension", tensions.fit ? tension_json(*tensions.fit, results.fit_tension) : json(nullptr)},
+      {"tension_in_words", tension_words},
+      {"dynamics", dynamics_json(dynamics, poles, rate, chain, results.fit_dynamics)},
+      {"dynamics_in_words", {{"named_as_cause", dynamics_named}, {"text", dynamics_words}}},
+      {"fit_test", summary_json(results)},
+      {"cause", causes_json(causes)},
+      {"loop_analysis", results.loops},
+      {"identification", identification}};
   write_outputs(args, figure, document);
   return 0;
 }

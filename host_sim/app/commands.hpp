@@ -127,6 +127,7 @@ struct OperatorFitArgs {
   double reversal_window = 0.05;
   double engagement_window = 0.30;
   bool no_stiffness = false;
+  std::vector<std::string> tension;  ///< FILE=LB: band tension of a file whose name has no <T>lbtension
 };
 int run_operator_fit(const OperatorFitArgs& args);
 

@@ -226,6 +226,10 @@ CLI::App* add_operator_fit(CLI::App& app, OperatorFitArgs& args) {
                         "Error analysis: 'engagement' = travel below this (and above the reversal window)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--no-stiffness", args.no_stiffness, "Extended model without the parallel stiffness k");
+  cmd->add_option("--tension", args.tension,
+                  "Band tension of a file, FILE=LB (FILE as given or its base name), for names without "
+                  "'<T>lbtension' or to override it. With training files at two tensions or more, the friction-gap "
+                  "operator is also fitted per tension and each test file is simulated at its own");
   return cmd;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -31,6 +32,15 @@ std::vector<std::string_view> split_fields(std::string_view line) {
     if (comma == std::string_view::npos) return fields;
     start = comma + 1;
   }
+}
+
+// What a value of each column must be, for the error when it is beyond kDamperValueLimit.
+constexpr std::array<std::string_view, 3> kWhat{"a time in seconds", "a displacement in inches", "a force in kip"};
+
+std::string beyond_limit(std::string_view column, double value, std::string_view what) {
+  return fmt::format("column '{}': {:g} is beyond {:g} in magnitude (the limit that keeps its span, max - min, and "
+                     "everything computed from it within the double range): not {}",
+                     column, value, kDamperValueLimit, what);
 }
 
 }  // namespace
@@ -85,6 +95,9 @@ DamperRecord parse_damper_csv(std::string_view text, std::string_view source_nam
       if (!std::isfinite(value[k])) {
         throw DataError(source_name, line_number, fmt::format("column '{}': '{}' is not finite", *wanted[k], field));
       }
+      if (!(std::fabs(value[k]) <= kDamperValueLimit)) {
+        throw DataError(source_name, line_number, beyond_limit(*wanted[k], value[k], kWhat[k]));
+      }
     }
     if (!record.t.empty() && !(value[0] > record.t.back())) {
       throw DataError(source_name, line_number,
@@ -98,6 +111,23 @@ DamperRecord parse_damper_csv(std::string_view text, std::string_view source_nam
   if (!have_header) throw DataError(source_name, "empty file: no header row");
   if (record.t.empty()) throw DataError(source_name, "no data rows after the header");
   return record;
+}
+
+void check_damper_values(const DamperRecord& record) {
+  if (record.v.size() != record.u.size()) {
+    throw DataError(record.source, fmt::format("v and u must have the same size (got {} and {})", record.v.size(),
+                                               record.u.size()));
+  }
+  const std::array<const std::vector<double>*, 2> columns{&record.v, &record.u};
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    for (std::size_t i = 0; i < columns[k]->size(); ++i) {
+      const double x = (*columns[k])[i];
+      if (!(std::fabs(x) <= kDamperValueLimit)) {  // also NaN
+        throw DataError(record.source,
+                        fmt::format("sample {}: {}", i, beyond_limit(k == 0 ? "v" : "u", x, kWhat[k + 1])));
+      }
+    }
+  }
 }
 
 DamperRecord read_damper_csv(const std::filesystem::path& path, const DamperColumns& columns) {

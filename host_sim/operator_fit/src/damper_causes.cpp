@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <utility>
 
@@ -112,6 +113,36 @@ std::vector<DamperCause> damper_causes(const std::vector<LoopAnalysis>& nominal,
   add(position_dependent_friction(t, extended_fit, v_span, options));
   add(rate_dependence(extended, options));
   return out;
+}
+
+std::string output_dynamics_in_words(const std::vector<FilterPole>& poles, int order, const TestErrors& errors) {
+  FilterPole dominant;
+  if (!dominant_pole(poles, &dominant)) return "no dynamics after the friction element (a filter without poles)";
+  const double removed = errors.extended > 0 ? 1.0 - errors.with_dynamics / errors.extended : 0.0;
+  const std::string gain = fmt::format(
+      "(dominant pole of the order-{} B(q)/A(q) after the friction_gap operator, identified on the training files "
+      "only); with it the extended model's squared error on the test files {} by {:.1f} % (mean test fit {:.1f} "
+      "% -> {:.1f} %)",
+      order, removed >= 0 ? "drops" : "grows", 100 * std::fabs(removed), errors.mean_fit_extended,
+      errors.mean_fit_dynamics);
+  if (dominant.z.imag() > 0) {
+    return fmt::format("the measured force rings at {:.1f} Hz after reversals: dynamics after the friction element, "
+                       "damping zeta = {:.2f}, natural frequency {:.1f} Hz {}",
+                       dominant.damped_hz, dominant.zeta, dominant.natural_hz, gain);
+  }
+  // A real pole: the force follows the friction element with a lag, it does not ring.
+  const double time_constant_ms = dominant.natural_hz > 0 ? 1000.0 / (2 * std::numbers::pi * dominant.natural_hz) : 0;
+  return fmt::format("the measured force lags the friction element without ringing: a real pole at {:.1f} Hz (time "
+                     "constant {:.1f} ms) {}",
+                     dominant.natural_hz, time_constant_ms, gain);
+}
+
+std::optional<DamperCause> dynamics_after_friction_element(const std::vector<FilterPole>& poles, int order,
+                                                           const TestErrors& errors,
+                                                           const DamperCauseOptions& options) {
+  if (poles.empty() || !(errors.extended > 0)) return std::nullopt;
+  if (!(1.0 - errors.with_dynamics / errors.extended >= options.dynamics_error_reduction)) return std::nullopt;
+  return DamperCause{"dynamics_after_friction_element", true, output_dynamics_in_words(poles, order, errors)};
 }
 
 }  // namespace lashid::sim

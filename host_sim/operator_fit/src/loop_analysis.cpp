@@ -68,7 +68,10 @@ LoopAnalysis analyse_loop(const DamperRecord& record, std::span<const double> u_
 
   // Speed over a centred window of about 50 ms, so that a flicker of the last bit of v is not motion.
   const double dt = (record.t.back() - record.t.front()) / static_cast<double>(record.t.size() - 1);
-  const auto h = static_cast<std::size_t>(std::max(1.0, std::round(0.025 / dt)));
+  // Clamped to the record before the cast: a time step that is tiny (or a span that is not finite) stays defined.
+  const double half_window = std::round(0.025 / dt);
+  const auto h = static_cast<std::size_t>(
+      half_window >= 1 ? std::min(half_window, static_cast<double>(v.size())) : 1.0);  // NaN -> 1
   std::array<double, kLoopPhaseNames.size()> sse{};
   std::array<std::size_t, kLoopPhaseNames.size()> count{};
   std::vector<double> speeds;

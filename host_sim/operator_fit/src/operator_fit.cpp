@@ -14,18 +14,20 @@ namespace lashid::sim {
 
 namespace {
 
-// Nearest node of an equally spaced grid of `points` nodes over [lo, hi].
+// Nearest node of an equally spaced grid of `points` nodes over [lo, hi] (a finite span, see median_table). Defined
+// for every v: below the grid, and NaN, give node 0, above it the last node, so the cast never sees inf or NaN.
 std::size_t nearest_node(double v, double lo, double hi, int points) {
   const double position = (v - lo) / (hi - lo) * (points - 1);
-  const double clamped = std::clamp(std::round(position), 0.0, static_cast<double>(points - 1));
-  return static_cast<std::size_t>(clamped);
+  if (!(position > 0)) return 0;
+  return static_cast<std::size_t>(std::min(std::round(position), static_cast<double>(points - 1)));
 }
 
 std::vector<std::pair<double, double>> median_table(std::span<const std::pair<double, double>> samples, double lo,
                                                     double hi, int points) {
-  if (points < 2 || !(lo < hi)) {
-    throw std::invalid_argument(fmt::format("fit_border: need points >= 2 and lo < hi, got {}, [{}, {}]", points,
-                                            lo, hi));
+  if (points < 2 || !(lo < hi) || !std::isfinite(hi - lo)) {
+    throw std::invalid_argument(fmt::format("fit_border: need points >= 2 and lo < hi with a finite span hi - lo, "
+                                            "got {}, [{}, {}]",
+                                            points, lo, hi));
   }
   std::vector<std::vector<double>> bins(static_cast<std::size_t>(points));
   for (const auto& [v, u] : samples) bins[nearest_node(v, lo, hi, points)].push_back(u);
@@ -42,6 +44,7 @@ void require_training(const std::vector<DamperRecord>& train) {
   if (train.empty()) throw std::invalid_argument("no training records");
   for (const auto& r : train) {
     if (r.v.size() < 2) throw std::invalid_argument(fmt::format("{}: fewer than 2 samples", r.source));
+    check_damper_values(r);  // bounded v and u: every span, bin index and sum of squares below stays finite
   }
 }
 
@@ -150,55 +153,67 @@ std::unique_ptr<FrictionGapOperator> ExtendedFit::make() const {
   return std::make_unique<FrictionGapOperator>(Border::from_table(curve), stiffness);
 }
 
-ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorFitOptions& options) {
-  require_training(train);
+CurveAtWidth fit_curve_at_width(const std::vector<DamperRecord>& records, double width,
+                                const OperatorFitOptions& options) {
+  require_training(records);
+  if (!(width > 0)) throw std::invalid_argument(fmt::format("play half-width must be > 0, got {}", width));
+  std::vector<std::vector<double>> offsets;
+  std::size_t total = 0;
+  for (const auto& r : records) {
+    offsets.push_back(play_offsets(r.v, width));
+    total += r.v.size();
+  }
+  CurveAtWidth out;
+  std::vector<std::pair<double, double>> samples;
+  samples.reserve(total);
+  double k = 0;
+  for (int round = 0; round < 3; ++round) {
+    out.stiffness = k;  // the k that `out.curve` and `out.squared_error` are computed with
+    samples.clear();
+    for (std::size_t f = 0; f < records.size(); ++f) {
+      for (std::size_t t = 0; t < records[f].v.size(); ++t) {
+        samples.emplace_back(offsets[f][t], records[f].u[t] - k * records[f].v[t]);
+      }
+    }
+    out.curve = median_table(samples, -width, width, options.points);
+    const Border curve = Border::from_table(out.curve);
+    double num = 0, den = 0;
+    out.squared_error = 0;
+    for (std::size_t f = 0; f < records.size(); ++f) {
+      for (std::size_t t = 0; t < records[f].v.size(); ++t) {
+        const double rest = records[f].u[t] - curve(offsets[f][t]);
+        num += rest * records[f].v[t];
+        den += records[f].v[t] * records[f].v[t];
+        out.squared_error += (rest - k * records[f].v[t]) * (rest - k * records[f].v[t]);
+      }
+    }
+    if (!options.parallel_stiffness || den == 0) break;
+    k = num / den;
+  }
+  out.samples = total;
+  return out;
+}
+
+std::vector<double> candidate_half_widths(const OperatorFitOptions& options) {
   std::vector<double> widths = options.half_widths;
   if (widths.empty()) {
     for (int i = 1; i <= 25; ++i) widths.push_back(0.02 * i);
   }
+  return widths;
+}
+
+ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorFitOptions& options) {
+  require_training(train);
   ExtendedFit best;
   double best_sse = std::numeric_limits<double>::infinity();
-  std::size_t total = 0;
-  for (const auto& r : train) total += r.v.size();
-  for (const double width : widths) {
-    if (!(width > 0)) throw std::invalid_argument(fmt::format("play half-width must be > 0, got {}", width));
-    std::vector<std::vector<double>> offsets;
-    for (const auto& r : train) offsets.push_back(play_offsets(r.v, width));
-    double k = 0;
-    std::vector<std::pair<double, double>> table;
-    std::vector<std::pair<double, double>> samples;
-    samples.reserve(total);
-    double sse = 0;
-    double k_table = 0;  // the k that `table` and `sse` were computed with
-    for (int round = 0; round < 3; ++round) {
-      k_table = k;
-      samples.clear();
-      for (std::size_t f = 0; f < train.size(); ++f) {
-        for (std::size_t t = 0; t < train[f].v.size(); ++t) {
-          samples.emplace_back(offsets[f][t], train[f].u[t] - k * train[f].v[t]);
-        }
-      }
-      table = median_table(samples, -width, width, options.points);
-      const Border curve = Border::from_table(table);
-      double num = 0, den = 0;
-      sse = 0;
-      for (std::size_t f = 0; f < train.size(); ++f) {
-        for (std::size_t t = 0; t < train[f].v.size(); ++t) {
-          const double rest = train[f].u[t] - curve(offsets[f][t]);
-          num += rest * train[f].v[t];
-          den += train[f].v[t] * train[f].v[t];
-          sse += (rest - k * train[f].v[t]) * (rest - k * train[f].v[t]);
-        }
-      }
-      if (!options.parallel_stiffness || den == 0) break;
-      k = num / den;
-    }
-    best.train_error_by_width.emplace_back(width, std::sqrt(sse / static_cast<double>(total)));
-    if (sse < best_sse) {
-      best_sse = sse;
+  for (const double width : candidate_half_widths(options)) {
+    const CurveAtWidth c = fit_curve_at_width(train, width, options);
+    best.train_error_by_width.emplace_back(width, std::sqrt(c.squared_error / static_cast<double>(c.samples)));
+    if (c.squared_error < best_sse) {
+      best_sse = c.squared_error;
       best.half_width = width;
-      best.curve = table;
-      best.stiffness = k_table;
+      best.curve = c.curve;
+      best.stiffness = c.stiffness;
     }
   }
   best.fit_train = mean_fit(*best.make(), train);

@@ -2,10 +2,12 @@
 // (docs/friction-damper.md, "Causes that the command names").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "lashid/operator_fit/operator_fit.hpp"
+#include "lashid/operator_fit/output_dynamics.hpp"
 
 namespace lashid::sim {
 
@@ -29,6 +31,21 @@ struct DamperCauseOptions {
   /// rate_dependence: the extended model's RMS error while sliding on the fastest test file (by peak speed) must
   /// exceed this multiple of that on the slowest.
   double sliding_rms_ratio = 1.5;
+  /// dynamics_after_friction_element: fraction of the extended operator's squared error on the test files that the
+  /// filter after it (identified on the training files) must remove to count.
+  double dynamics_error_reduction = 0.10;
+  /// friction_level_scales_with_band_tension: fraction of the tension-blind extended operator's squared error on
+  /// the test files that the operator fitted per band tension must remove to count.
+  double band_tension_error_reduction = 0.10;
+};
+
+/// The extended operator's squared error on the test files without and with the filter after it (sums over the
+/// files), and its mean test fit (%) without and with.
+struct TestErrors {
+  double extended = 0;
+  double with_dynamics = 0;
+  double mean_fit_extended = 0;
+  double mean_fit_dynamics = 0;
 };
 
 /// Causes supported by the errors on the test files, in this order when present: finite_stiffness_at_reversal,
@@ -39,5 +56,18 @@ struct DamperCauseOptions {
 std::vector<DamperCause> damper_causes(const std::vector<LoopAnalysis>& nominal,
                                        const std::vector<LoopAnalysis>& extended, const ExtendedFit& extended_fit,
                                        double v_span, const DamperCauseOptions& options = {});
+
+/// One sentence on the filter after the extended operator, whatever its gain: its dominant pole (dominant_pole())
+/// in words (ringing frequency and damping zeta when it oscillates, time constant when it is real) and how much of
+/// the extended operator's squared error on the test files it removes (or adds).
+std::string output_dynamics_in_words(const std::vector<FilterPole>& poles, int order, const TestErrors& errors);
+
+/// dynamics_after_friction_element: named when the filter B(q)/A(q) after the extended operator (identified on the
+/// training files; `poles` from filter_poles(), `order` its order) removes at least
+/// options.dynamics_error_reduction of the extended operator's squared error on the test files; the evidence is
+/// output_dynamics_in_words(). No poles or too little gain: nothing.
+std::optional<DamperCause> dynamics_after_friction_element(const std::vector<FilterPole>& poles, int order,
+                                                           const TestErrors& errors,
+                                                           const DamperCauseOptions& options = {});
 
 }  // namespace lashid::sim

@@ -72,6 +72,20 @@ struct ExtendedFit {
 /// is kept. Training files only. Throws std::invalid_argument for no training data.
 ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorFitOptions& options);
 
+/// G and k of the friction-gap operator for one play half-width r (the inner step of fit_extended()): the play's
+/// offsets e(t) started mid-play, G = per-node medians of u - k v against e on `options.points` nodes of [-r, r], k
+/// by least squares (alternated 3 times). Throws std::invalid_argument for no records or r <= 0.
+struct CurveAtWidth {
+  std::vector<std::pair<double, double>> curve;  ///< G as a table (e, u)
+  double stiffness = 0;                          ///< k
+  double squared_error = 0;                      ///< sum over the records of (u - G(e) - k v)^2
+  std::size_t samples = 0;
+};
+CurveAtWidth fit_curve_at_width(const std::vector<DamperRecord>& records, double width,
+                                const OperatorFitOptions& options);
+/// options.half_widths, or 0.02 to 0.50 by 0.02 when it is empty.
+std::vector<double> candidate_half_widths(const OperatorFitOptions& options);
+
 // --------------------------------------------------------------------------------- error by phase of the loop
 
 struct LoopPhaseOptions {

@@ -1,0 +1,224 @@
+// Linear dynamics after a hysteresis operator (operator -> B(q)/A(q)): the filter, its poles, ARX and output-error
+// identification, the order choice and the damper's dynamics cause (docs/friction-damper.md). Every expected value
+// comes from a closed form: a known continuous resonance sampled at 1024 Hz, driven by a switch's square wave.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lashid/operator_fit/damper_causes.hpp"
+#include "lashid/operator_fit/output_dynamics.hpp"
+
+namespace {
+
+using namespace lashid::sim;
+
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The message of the std::invalid_argument that `action` throws ("" and a failure if it throws none).
+template <typename Action>
+std::string error_of(Action&& action) {
+  try {
+    action();
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "expected std::invalid_argument";
+  return {};
+}
+
+constexpr double kRate = 1024.0;
+constexpr double kPi = std::numbers::pi;
+
+// A(q) = 1 - 2 r cos(theta) q^-1 + r^2 q^-2 of the continuous pair s = -zeta w +- i w sqrt(1 - zeta^2) sampled at
+// kRate (z = exp(s / kRate)), and b_0 = A(1), b_1 = b_2 = 0: static gain 1, the force reaches the sensor at once.
+OutputFilter resonance(double natural_hz, double zeta) {
+  const double w = 2 * kPi * natural_hz;
+  const double r = std::exp(-zeta * w / kRate);
+  const double theta = w * std::sqrt(1 - zeta * zeta) / kRate;
+  const double a1 = -2 * r * std::cos(theta), a2 = r * r;
+  return {{a1, a2}, {1 + a1 + a2, 0, 0}};
+}
+
+// The switch with constant borders +-1 on v = amplitude(t) sin(2 pi f t): +1 while v rises, -1 while it falls,
+// i.e. the sign of cos(2 pi f t) (the amplitude ramps slowly, so it does not move the reversals noticeably).
+std::vector<double> switch_output(double hz, double seconds) {
+  std::vector<double> w;
+  for (int t = 0; t < static_cast<int>(seconds * kRate); ++t) {
+    w.push_back(std::cos(2 * kPi * hz * t / kRate) >= 0 ? 1 : -1);
+  }
+  return w;
+}
+
+// y(t) = -a1 y(t-1) - a2 y(t-2) + b0 w(t), from rest at y0 = b0 w(0) / A(1) = w(0): written out here, not
+// OutputFilter::apply, so the test does not check the filter against itself.
+std::vector<double> through_resonance(const std::vector<double>& w, double natural_hz, double zeta) {
+  const OutputFilter f = resonance(natural_hz, zeta);
+  std::vector<double> y(w.size());
+  double y1 = w[0], y2 = w[0];
+  for (std::size_t t = 0; t < w.size(); ++t) {
+    y[t] = t == 0 ? w[0] : -f.a[0] * y1 - f.a[1] * y2 + f.b[0] * w[t];
+    y2 = y1;
+    y1 = y[t];
+  }
+  return y;
+}
+
+// ----------------------------------------------------------------------------------------- filter and poles
+
+TEST(OutputFilter, StaticGainAndStepResponseAreTheClosedForms) {
+  const OutputFilter first{{-0.5}, {0.5, 0.0}};  // y(t) = 0.5 y(t-1) + 0.5 w(t)
+  EXPECT_DOUBLE_EQ(first.dc_gain(), 1.0);
+  EXPECT_DOUBLE_EQ((OutputFilter{{-0.5}, {0.5, 0.25}}).dc_gain(), 1.5);  // 0.75 / 0.5
+  // From rest at 0, a unit step from t = 1: y(t) = 1 - 0.5^t.
+  const std::vector<double> y = first.apply(std::vector<double>{0, 1, 1, 1, 1, 1}, 0.0);
+  for (std::size_t t = 0; t < y.size(); ++t) EXPECT_DOUBLE_EQ(y[t], 1 - std::pow(0.5, t)) << t;
+  // At rest at the static level, a constant input keeps it.
+  for (const double x : resonance(5, 0.1).apply(std::vector<double>(50, 2.0), 2.0)) EXPECT_NEAR(x, 2.0, 1e-12);
+}
+
+TEST(OutputFilter, PolesGiveBackTheContinuousFrequencyAndDamping) {
+  const std::vector<FilterPole> poles = filter_poles(resonance(6.0, 0.2), kRate);
+  ASSERT_EQ(poles.size(), 2U);
+  for (const auto& p : poles) {
+    EXPECT_NEAR(p.natural_hz, 6.0, 1e-9);
+    EXPECT_NEAR(p.zeta, 0.2, 1e-9);
+    EXPECT_NEAR(p.damped_hz, 6.0 * std::sqrt(1 - 0.04), 1e-9);
+  }
+  FilterPole dominant;
+  ASSERT_TRUE(dominant_pole(poles, &dominant));
+  EXPECT_GT(dominant.z.imag(), 0.0);
+  // A real pole z = exp(-2 pi 10 / 1024): 10 Hz, zeta 1, no ringing.
+  const auto real = filter_poles(OutputFilter{{-std::exp(-2 * kPi * 10 / kRate)}, {1, 0}}, kRate);
+  ASSERT_EQ(real.size(), 1U);
+  EXPECT_NEAR(real[0].natural_hz, 10.0, 1e-9);
+  EXPECT_NEAR(real[0].zeta, 1.0, 1e-12);
+  EXPECT_EQ(real[0].damped_hz, 0.0);
+  EXPECT_FALSE(dominant_pole({}, &dominant));
+  EXPECT_THROW(filter_poles(resonance(6, 0.2), 0.0), std::invalid_argument);
+}
+
+// ------------------------------------------------------------------------------------------- identification
+
+TEST(OutputDynamics, ArxRecoversAKnownResonanceAfterASwitchExactly) {
+  const std::vector<double> w = switch_output(0.7, 8.0);
+  const FilterData data{w, through_resonance(w, 5.0, 0.1)};
+  const OutputFilter truth = resonance(5.0, 0.1);
+  const OutputFilter f = fit_arx({data}, 2);
+  ASSERT_EQ(f.order(), 2);
+  EXPECT_NEAR(f.a[0], truth.a[0], 1e-8);
+  EXPECT_NEAR(f.a[1], truth.a[1], 1e-8);
+  EXPECT_NEAR(f.b[0], truth.b[0], 1e-8);
+  EXPECT_NEAR(f.b[1], 0.0, 1e-8);
+  EXPECT_NEAR(f.b[2], 0.0, 1e-8);
+}
+
+TEST(OutputDynamics, OutputErrorConvergesFromAWrongStart) {
+  const std::vector<double> w = switch_output(0.7, 8.0);
+  const FilterData data{w, through_resonance(w, 5.0, 0.1)};
+  // Start at 8 Hz with zeta 0.4: far from the truth, and a wrong static gain.
+  OutputFilter start = resonance(8.0, 0.4);
+  start.b[0] *= 0.8;
+  const OutputFilter f = refine_output_error({data}, start, 100);
+  FilterPole p;
+  ASSERT_TRUE(dominant_pole(filter_poles(f, kRate), &p));
+  EXPECT_NEAR(p.natural_hz, 5.0, 1e-3);
+  EXPECT_NEAR(p.zeta, 0.1, 1e-4);
+  EXPECT_NEAR(f.dc_gain(), 1.0, 1e-4);
+}
+
+// Sensor noise biases the equation error (the regressors hold noisy outputs); the simulated error does not see it.
+TEST(OutputDynamics, NoisyMeasurementStillGivesTheResonanceAndTheOrder) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  std::vector<FilterData> files;
+  double best_fit = 0;  // mean over the files of 100 (1 - 0.05 / std(noise-free y)): the truth's own fit
+  for (const double hz : {0.5, 0.9, 1.3}) {
+    const std::vector<double> w = switch_output(hz, 6.0);
+    std::vector<double> y = through_resonance(w, 5.0, 0.1);
+    double mean = 0, var = 0;
+    for (const double x : y) mean += x / static_cast<double>(y.size());
+    for (const double x : y) var += (x - mean) * (x - mean) / static_cast<double>(y.size());
+    best_fit += 100 * (1 - 0.05 / std::sqrt(var)) / 3;
+    for (double& x : y) x += noise(rng);
+    files.push_back({w, y});
+  }
+  const OutputDynamicsFit fit = fit_output_dynamics(files);  // orders 2..4, one file held out at a time
+  ASSERT_EQ(fit.scores.size(), 3U);
+
+  EXPECT_EQ(fit.filter.order(), 2) << "a higher order must not earn its parameters on a 2nd-order truth";
+  FilterPole p;
+  ASSERT_TRUE(dominant_pole(filter_poles(fit.filter, kRate), &p));
+  EXPECT_NEAR(p.natural_hz, 5.0, 0.05);
+  EXPECT_NEAR(p.zeta, 0.1, 0.01);
+  // Only the noise is left: the fit is the truth's own, within what 9 parameters can take out of the noise.
+  EXPECT_NEAR(fit.fit_train, best_fit, 0.2);
+}
+
+TEST(OutputDynamics, BadInputIsAClearError) {
+  const FilterData ok{{1, 2, 3, 4, 5, 6}, {1, 2, 3, 4, 5, 6}};
+  EXPECT_TRUE(Contains(error_of([&] { fit_arx({ok}, 0); }), "order must be >= 1, got 0"));
+  EXPECT_TRUE(Contains(error_of([] { fit_arx({}, 2); }), "no training files"));
+  EXPECT_TRUE(Contains(error_of([] { fit_arx({FilterData{{1, 2}, {1}}}, 1); }),
+                       "operator output has 2 samples, measurement 1"));
+  EXPECT_TRUE(Contains(error_of([&] { fit_arx({ok}, 3); }), "3 equations for 7 parameters"));
+  OutputDynamicsOptions bad;
+  bad.min_order = 3;
+  bad.max_order = 2;
+  EXPECT_TRUE(Contains(error_of([&] { fit_output_dynamics({ok}, bad); }), "orders 3..2"));
+  EXPECT_TRUE(Contains(error_of([&] { refine_output_error({ok}, OutputFilter{{0.5}, {1}}); }),
+                       "needs n a's and n + 1 b's"));
+}
+
+// --------------------------------------------------------------------------------- what the operator misses
+
+// At 1020 Hz a centred window of 25 samples each side holds 51 samples, exactly one period of 20 Hz: the moving
+// mean removes a constant offset and leaves the sinusoid whole, so (away from the ends) the fast part is A sin, of
+// energy A^2 / 2 per sample against c^2 + A^2 / 2 for the whole error.
+TEST(ErrorOscillation, FindsTheFrequencyAndShareOfAFastErrorOverASlowOne) {
+  constexpr double rate = 1020, amplitude = 0.3, offset = 0.4;
+  std::vector<double> measured, simulated;
+  for (int t = 0; t < 10 * 1020; ++t) {
+    simulated.push_back(std::sin(2 * kPi * 0.5 * t / rate));  // the model's part cancels in the error
+    measured.push_back(simulated.back() + offset + amplitude * std::sin(2 * kPi * 20 * t / rate));
+  }
+  const ErrorOscillation osc = error_oscillation(measured, simulated, rate, 50 / rate);  // 25 samples each side
+  EXPECT_EQ(osc.peak_hz, 20.0);
+  EXPECT_NEAR(osc.peak_amplitude, amplitude, 0.005);
+  const double share = amplitude * amplitude / 2 / (offset * offset + amplitude * amplitude / 2);
+  EXPECT_NEAR(osc.fast_share, share, 0.01);
+  EXPECT_EQ(error_oscillation(simulated, simulated, rate).fast_share, 0.0);
+  EXPECT_TRUE(Contains(error_of([] { error_oscillation(std::vector<double>{1, 2}, std::vector<double>{1}, 1.0); }),
+                       "need equal sizes (2 vs 1)"));
+}
+
+// ---------------------------------------------------------------------------------------------- cause rule
+
+TEST(DamperCauses, DynamicsAreNamedWithTheirRingingFrequencyAndDamping) {
+  const std::vector<FilterPole> poles = filter_poles(resonance(6.0, 0.2), kRate);
+  // 6 sqrt(1 - 0.04) = 5.88 Hz; 50 % of the squared error removed.
+  const auto cause = dynamics_after_friction_element(poles, 2, TestErrors{100, 50, 60, 75});
+  ASSERT_TRUE(cause.has_value());
+  EXPECT_EQ(cause->name, "dynamics_after_friction_element");
+  EXPECT_TRUE(cause->in_extended_model);
+  EXPECT_TRUE(Contains(cause->evidence, "rings at 5.9 Hz after reversals"));
+  EXPECT_TRUE(Contains(cause->evidence, "zeta = 0.20, natural frequency 6.0 Hz"));
+  EXPECT_TRUE(Contains(cause->evidence, "drops by 50.0 % (mean test fit 60.0 % -> 75.0 %)"));
+  // 5 % removed is below the 10 % threshold; no poles, nothing.
+  EXPECT_FALSE(dynamics_after_friction_element(poles, 2, TestErrors{100, 95, 60, 61}).has_value());
+  EXPECT_FALSE(dynamics_after_friction_element({}, 2, TestErrors{100, 50, 60, 75}).has_value());
+  // A real pole at 10 Hz lags by 1 / (2 pi 10) s = 15.9 ms.
+  const auto lag = dynamics_after_friction_element(
+      filter_poles(OutputFilter{{-std::exp(-2 * kPi * 10 / kRate)}, {1, 0}}, kRate), 1, TestErrors{100, 50, 60, 75});
+  ASSERT_TRUE(lag.has_value());
+  EXPECT_TRUE(Contains(lag->evidence, "real pole at 10.0 Hz (time constant 15.9 ms)"));
+  // Not named, still described: a filter that adds error says so.
+  EXPECT_TRUE(Contains(output_dynamics_in_words(poles, 2, TestErrors{100, 120, 60, 55}),
+                       "squared error on the test files grows by 20.0 % (mean test fit 60.0 % -> 55.0 %)"));
+}
+
+}  // namespace
