@@ -1,5 +1,6 @@
-// What a run reports (messages.hpp's records), made from the estimator's results: a scheme's estimate as its
-// EstimateRecord, and the Remark 3b cross-check of the two linear estimates as reported. Free functions, so that the
+// Between a run's design and the estimator: each scheme's experiment design, and what a run reports (messages.hpp's
+// records) made from the estimator's results: a scheme's estimate as its EstimateRecord, and the Remark 3b
+// cross-check of the two linear estimates as reported. Free functions, so that the
 // sequencer (sequencer.hpp) keeps to the order of the experiments. Header-only, heap-free, float32.
 #pragma once
 
@@ -16,6 +17,18 @@ namespace lashid::fw {
 
 /// Remark 3b threshold, in standard errors of the difference.
 inline constexpr float kCrossCheckSigmas = 4.0f;
+
+/// One scheme's experiment design (the estimator's view) of a run's design.
+inline est::ExperimentDesign<float, kMaxPoints> scheme_design(const RunDesign& run, est::Scheme scheme) {
+  est::ExperimentDesign<float, kMaxPoints> d;
+  d.scheme = scheme;
+  d.m = run.m;
+  d.v_min = run.v_min;
+  d.v_max = run.v_max;
+  const auto& V = scheme == est::Scheme::kDescending ? run.V_d : run.V_a;
+  for (int j = 0; j < run.m; ++j) d.V(j) = V[static_cast<std::size_t>(j)];
+  return d;
+}
 
 /// The record of a scheme that did not run (reported as such when a run ends early).
 constexpr EstimateRecord not_run(est::Scheme scheme) {

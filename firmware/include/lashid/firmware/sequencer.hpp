@@ -93,17 +93,6 @@ class IdentificationSequencer {
   const CostRecord& cost() const { return cost_; }
 
  private:
-  Design scheme_design(est::Scheme scheme) const {
-    Design d;
-    d.scheme = scheme;
-    d.m = design_.m;
-    d.v_min = design_.v_min;
-    d.v_max = design_.v_max;
-    const auto& V = scheme == est::Scheme::kDescending ? design_.V_d : design_.V_a;
-    for (int j = 0; j < design_.m; ++j) d.V(j) = V[static_cast<std::size_t>(j)];
-    return d;
-  }
-
   /// Checks and keeps a design; a refused one ends the run (reported, nothing actuated).
   void accept(const RunDesign& d) {
     design_status_ = check_design(d);
@@ -120,7 +109,8 @@ class IdentificationSequencer {
     t_ = 0;
     phase_ = 0;
     if (next == Stage::kStepD || next == Stage::kStepA) {
-      const Design d = scheme_design(next == Stage::kStepD ? est::Scheme::kDescending : est::Scheme::kAscending);
+      const Design d =
+          scheme_design(design_, next == Stage::kStepD ? est::Scheme::kDescending : est::Scheme::kAscending);
       (void)identifier_.configure(d, design_.n);  // valid: check_design() accepted the run's design
       generator_ = est::ExcitationGenerator<float, N, M>(d, design_.n);
     } else if (next == Stage::kValidation) {
