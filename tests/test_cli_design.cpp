@@ -155,11 +155,11 @@ TEST_F(CliDesign, RefusesBadOptionsNamingTheRuleAndWritesNothing) {
     EXPECT_TRUE(Contains(r.err, c.message)) << r;
     EXPECT_FALSE(fs::exists(work_ / "cfg.json")) << c.message;
   }
-  // n = 4 fits the firmware image (n <= 4) but not the host estimator (n <= 3): said in those words.
-  const Outcome fourth = design({"--n", "4", "--m", "6", "--v-min", "-3", "--v-max", "4", "--operator", "switch",
-                                 "--out", "cfg.json"});
-  EXPECT_EQ(fourth.exit_code, 1) << fourth;
-  EXPECT_TRUE(Contains(fourth.err, "the firmware image takes n <= 4, but the host estimator is compiled for n <= 3"));
+  // n = 5 is beyond both the firmware image and the host estimator (n <= 4): nothing written.
+  const Outcome fifth = design({"--n", "5", "--m", "6", "--v-min", "-3", "--v-max", "4", "--operator", "switch",
+                                "--out", "cfg.json"});
+  EXPECT_EQ(fifth.exit_code, 1) << fifth;
+  EXPECT_TRUE(Contains(fifth.err, "--n 5 --m 6: need n in [1, 4] and m in [1, 10]; nothing written")) << fifth;
   EXPECT_FALSE(fs::exists(work_ / "cfg.json"));
   // Writing needs the design; --check excludes it.
   EXPECT_NE(design({"--n", "2", "--m", "6", "--operator", "switch", "--out", "cfg.json"}).exit_code, 0);
@@ -176,22 +176,20 @@ TEST_F(CliDesign, CheckNamesTheKeyAndRule) {
   EXPECT_TRUE(Contains(typo.err, "in.json: unknown key 'step_lenght'"));
   const Outcome fifth = design({"--check", config_with("n", 5)});
   EXPECT_EQ(fifth.exit_code, 1) << fifth;
-  EXPECT_TRUE(Contains(fifth.err, "'n' = 5 is outside what the host estimator or the firmware image can take [1, 4]"));
+  EXPECT_TRUE(Contains(fifth.err, "'n' = 5 is outside what the host estimator and the firmware image can take [1, 4]"));
 }
 
 TEST_F(CliDesign, CheckSaysWhichSideCannotRunADesign) {
-  // n = 4: the image runs it, the host estimator (n <= 3) does not.
+  // n = 4: the image and the host estimator both run it (the host at the image's capacity).
   const Outcome fourth = design({"--check", config_with("n", 4)});
-  EXPECT_EQ(fourth.exit_code, 1) << fourth;
-  EXPECT_TRUE(Contains(fourth.out, "host estimator (n <= 3, m <= 8): does NOT fit"));
+  EXPECT_EQ(fourth.exit_code, 0) << fourth;
+  EXPECT_TRUE(Contains(fourth.out, "host estimator (n <= 4, m <= 10): fits"));
   EXPECT_TRUE(Contains(fourth.out, "firmware image (n <= 4, m <= 10, levels distinct in float32): fits"));
-  EXPECT_TRUE(Contains(fourth.err, "'n' = 4 is outside the host estimator's compiled range [1, 3]"));
-  EXPECT_TRUE(Contains(fourth.err, "(the firmware image could run it)"));
 
   // 1 + 1e-10 differs from 1 in double, not in float32: the host takes it, the firmware's V_d is not increasing.
   const Outcome close = design({"--check", config_with("V_d", {-3, -2, -1, 0, 1, 1.0000000001})});
   EXPECT_EQ(close.exit_code, 1) << close;
-  EXPECT_TRUE(Contains(close.out, "host estimator (n <= 3, m <= 8): fits"));
+  EXPECT_TRUE(Contains(close.out, "host estimator (n <= 4, m <= 10): fits"));
   EXPECT_TRUE(Contains(close.err, "valid for the host, but the firmware image cannot run it: in float32 'V_d[5]' = 1 "
                                   "is not greater than 'V_d[4]' = 1"));
 

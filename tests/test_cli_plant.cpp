@@ -73,6 +73,46 @@ TEST_F(CliPlant, SimulateWritesFivePhasesWithTheDesignLengthsAndIdentifyRecovers
   for (const char* scheme : {"dis", "ais"}) EXPECT_NEAR(est.at(scheme).at("a").at(0).get<double>(), -0.6, 0.01);
 }
 
+// The firmware image's largest design (n = 4, m = 10) is identified on the host too: the host estimator runs at the
+// image's capacity. A has the poles 0.8, 0.6, -0.5, 0.3: (1 - 1.4 q^-1 + 0.48 q^-2)(1 + 0.2 q^-1 - 0.15 q^-2) =
+// 1 - 1.2 q^-1 + 0.05 q^-2 + 0.306 q^-3 - 0.072 q^-4, multiplied out by hand. (With little equation noise, n = 4 is
+// ill-conditioned in float32, a named status: docs/estimator.md.)
+TEST_F(CliPlant, TheImagesLargestDesignIsIdentifiedOnTheHost) {
+  json plant4 = plant();
+  plant4["a"] = {-1.2, 0.05, 0.306, -0.072};
+  plant4["b"] = {1.0, 0.5, 0.3, 0.2};
+  plant4["equation_noise_std"] = 0.05;
+  plant4.erase("name");
+  write("plant.json", plant4);
+  json V_d = json::array(), V_a = json::array();
+  for (int j = 0; j < 10; ++j) {
+    V_d.push_back(-2 + 0.4 * j);
+    V_a.push_back(2 - 0.4 * j);
+  }
+  write("cfg.json", {{"n", 4}, {"m", 10}, {"v_min", -2}, {"v_max", 2}, {"V_d", V_d}, {"V_a", V_a},
+                     {"operator", "switch"}});
+  ASSERT_EQ(run({"design", "--check", "cfg.json"}).exit_code, 0);
+  const Outcome r = run({"simulate", "--plant", "plant.json", "--config", "cfg.json", "--seed", "5", "--out",
+                         "rec.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  const Outcome id = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--float", "--json", "est.json"});
+  ASSERT_EQ(id.exit_code, 0) << id;
+  const json est = json::parse(slurp(work_ / "est.json"));
+  const std::vector<double> a{-1.2, 0.05, 0.306, -0.072};
+  for (const char* scheme : {"dis", "ais"}) {
+    const json& e = est.at(scheme);
+    ASSERT_EQ(e.at("a").size(), 4u);
+    ASSERT_EQ(e.at("F").size(), 10u);
+    ASSERT_EQ(e.at("theta").size(), 4u + 4u * 10u);
+    for (std::size_t i = 0; i < 4; ++i) {
+      // Within 5 of its standard errors (theta = [a_1..a_4, mu...]: the first 4 are a's).
+      const double se = e.at("theta_std_error").at(i).get<double>();
+      EXPECT_GT(se, 0.0);
+      EXPECT_NEAR(e.at("a").at(i).get<double>(), a[i], 5 * se) << scheme << " a" << i + 1;
+    }
+  }
+}
+
 TEST_F(CliPlant, AMalformedPlantFileIsNamedWithItsKeyAndNothingIsWritten) {
   json bad = plant();
   bad["sensor_noise"] = {{"std", 0.1}, {"pole", 1.2}};

@@ -99,9 +99,9 @@ TEST(ConfigDesign, RefusesWhatARunCannotExpress) {
             "cfg.json: 'm' = 11 is outside the firmware image's capacity [1, 10]");
 }
 
-TEST(ConfigDesign, OrdersBeyondTheHostFitTheImageUpToItsCapacity) {
+TEST(ConfigDesign, OrdersFitTheImageUpToItsCapacity) {
   ExperimentConfig config = example();
-  config.n = 4;  // the host estimator stops at 3, the image at 4
+  config.n = 4;  // the image's capacity (and the host estimator's)
   EXPECT_EQ(fw::check_design(to_run_design(config, "cfg.json")), fw::DesignStatus::kOk);
   config.n = 5;
   const fw::RunDesign d = as_is(config);

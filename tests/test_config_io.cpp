@@ -112,8 +112,8 @@ TEST(ConfigParse, RejectsSizesOutsideTheCompiledRange) {
   EXPECT_TRUE(
       Contains(config_error(with(valid_document(), "/n", kMinOrder - 1)),
                fmt::format("'n' = {} is outside the compiled range [{}, {}]", kMinOrder - 1, kMinOrder, kMaxOrder)));
-  EXPECT_TRUE(Contains(config_error(with(valid_document(), "/n", kMaxOrder + 1)), "'n' = 4 is outside"));
-  EXPECT_TRUE(Contains(config_error(with(valid_document(), "/m", kMaxPoints + 1)), "'m' = 9 is outside"));
+  EXPECT_TRUE(Contains(config_error(with(valid_document(), "/n", kMaxOrder + 1)), "'n' = 5 is outside"));
+  EXPECT_TRUE(Contains(config_error(with(valid_document(), "/m", kMaxPoints + 1)), "'m' = 11 is outside"));
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "/m", 0)), "'m' = 0 is outside"));
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "/n", 2.0)), "'n' must be an integer, got 2.0"));
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "/n", "2")), "'n' must be an integer, got \"2\""));

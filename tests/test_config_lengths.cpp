@@ -155,13 +155,13 @@ TEST(ConfigSensorRange, OptionalTwoIncreasingNumbersWrittenBackAsGiven) {
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "sensor_range", "wide")), "'sensor_range'"));
 }
 
-TEST(ConfigLimitsTest, AWiderRangeIsNamedInItsErrors) {
-  const ConfigLimits firmware{.max_order = 4, .max_points = 10, .range_name = "the firmware image's capacity"};
-  const json fourth_order = with(valid_document(), "n", 4);
-  EXPECT_TRUE(Contains(config_error(fourth_order), "'n' = 4 is outside the compiled range [1, 3]"));
-  EXPECT_EQ(parse_config_json(fourth_order.dump(), kSource, firmware).n, 4);
-  EXPECT_EQ(error_of([&] { parse_config_json(with(valid_document(), "n", 5).dump(), kSource, firmware); }),
-            "cfg.json: 'n' = 5 is outside the firmware image's capacity [1, 4]");
+TEST(ConfigLimitsTest, ANarrowerRangeIsNamedInItsErrors) {
+  const ConfigLimits narrow{.max_order = 2, .max_points = 6, .range_name = "a caller's range"};
+  const json third_order = with(valid_document(), "n", 3);
+  EXPECT_EQ(parse(third_order).n, 3);  // within the compiled range [1, 4]
+  EXPECT_EQ(error_of([&] { parse_config_json(third_order.dump(), kSource, narrow); }),
+            "cfg.json: 'n' = 3 is outside a caller's range [1, 2]");
+  EXPECT_TRUE(Contains(config_error(with(valid_document(), "n", 5)), "'n' = 5 is outside the compiled range [1, 4]"));
 }
 
 }  // namespace

@@ -38,29 +38,15 @@ std::string without_source(const DataError& error, std::string_view source) {
 
 // What each side makes of a config: empty when it accepts it, else why not (naming the key).
 struct Verdict {
-  std::string host;
   std::string firmware;
   std::optional<fw::RunDesign> run;  // the float32 design, when the config can be expressed as one
 };
 
-std::string host_problem(const ExperimentConfig& config) {
-  // The reader of `design --check` takes the firmware's capacity too, so that it can say which side refuses.
-  if (config.n > kMaxOrder) {
-    return fmt::format("'n' = {} is outside the host estimator's compiled range [{}, {}] (kMaxOrder in "
-                       "host_sim/io/include/lashid/io/config.hpp): lashid simulate, identify and diagnose refuse it",
-                       config.n, kMinOrder, kMaxOrder);
-  }
-  if (config.m > kMaxPoints) {
-    return fmt::format("'m' = {} is outside the host estimator's compiled range [{}, {}] (kMaxPoints in "
-                       "host_sim/io/include/lashid/io/config.hpp): lashid simulate, identify and diagnose refuse it",
-                       config.m, kMinPoints, kMaxPoints);
-  }
-  return {};
-}
+// The host estimator runs at the firmware image's capacity (io/config.hpp): a design is never one side's only.
+static_assert(kMaxOrder == fw::kMaxOrder && kMaxPoints == fw::kMaxPoints);
 
 Verdict judge(const ExperimentConfig& config, const std::string& source) {
   Verdict v;
-  v.host = host_problem(config);
   try {
     v.run = run_design_as_is(config, experiment_lengths(config), source);
   } catch (const DataError& e) {
@@ -101,18 +87,16 @@ void print_summary(const ExperimentConfig& c, const Verdict& v, const std::strin
     fmt::print("  firmware run: {} samples = {} interval check + {} steps + {} pulses + {} validation\n", s.total(),
                s.interval_check, s.steps, s.pulses, s.validation);
   }
-  fmt::print("  host estimator (n <= {}, m <= {}): {}\n", kMaxOrder, kMaxPoints,
-             v.host.empty() ? "fits" : "does NOT fit");
+  fmt::print("  host estimator (n <= {}, m <= {}): fits\n", kMaxOrder, kMaxPoints);
   fmt::print("  firmware image (n <= {}, m <= {}, levels distinct in float32): {}\n", fw::kMaxOrder, fw::kMaxPoints,
              v.firmware.empty() ? "fits" : "does NOT fit: " + v.firmware);
 }
 
-// The reader of `design --check`: n and m up to the larger of the host's and the image's capacity, so that a design
-// one side takes is read and judged instead of refused by the host's limits alone.
+// The reader of `design --check`: n and m up to the capacity the host estimator and the image share.
 ConfigLimits check_limits() {
-  return {.max_order = std::max(kMaxOrder, fw::kMaxOrder),
-          .max_points = std::max(kMaxPoints, fw::kMaxPoints),
-          .range_name = "what the host estimator or the firmware image can take"};
+  return {.max_order = kMaxOrder,
+          .max_points = kMaxPoints,
+          .range_name = "what the host estimator and the firmware image can take"};
 }
 
 int run_check(const std::string& path) {
@@ -120,9 +104,6 @@ int run_check(const std::string& path) {
   const Verdict v = judge(config, path);
   print_summary(config, v, path);
   // One file for host and device: it passes only when both can run it.
-  if (!v.host.empty()) {
-    throw DataError(path, v.firmware.empty() ? v.host + " (the firmware image could run it)" : v.host);
-  }
   if (!v.firmware.empty()) throw DataError(path, "valid for the host, but the firmware image cannot run it: " + v.firmware);
   fmt::print("{}: valid for the host and the firmware image\n", path);
   return 0;
@@ -139,20 +120,6 @@ double grid_level(double v_min, double v_max, int K, int i) {
 }
 
 int run_write(const DesignArgs& a) {
-  if (a.n > kMaxOrder && a.n <= fw::kMaxOrder) {
-    throw std::invalid_argument(fmt::format(
-        "--n {}: the firmware image takes n <= {}, but the host estimator is compiled for n <= {} (kMaxOrder in "
-        "host_sim/io/include/lashid/io/config.hpp), so lashid simulate, identify and diagnose could not read the "
-        "config; nothing written",
-        a.n, fw::kMaxOrder, kMaxOrder));
-  }
-  if (a.m > kMaxPoints && a.m <= fw::kMaxPoints) {
-    throw std::invalid_argument(fmt::format(
-        "--m {}: the firmware image takes m <= {}, but the host estimator is compiled for m <= {} (kMaxPoints in "
-        "host_sim/io/include/lashid/io/config.hpp), so lashid simulate, identify and diagnose could not read the "
-        "config; nothing written",
-        a.m, fw::kMaxPoints, kMaxPoints));
-  }
   if (a.n < kMinOrder || a.n > kMaxOrder || a.m < kMinPoints || a.m > kMaxPoints) {
     throw std::invalid_argument(fmt::format("--n {} --m {}: need n in [{}, {}] and m in [{}, {}]; nothing written", a.n,
                                             a.m, kMinOrder, kMaxOrder, kMinPoints, kMaxPoints));

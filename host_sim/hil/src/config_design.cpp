@@ -17,6 +17,10 @@
 
 namespace lashid::sim {
 
+// Every design the image runs can be identified and diagnosed from its recording on the host.
+static_assert(kMaxOrder == fw::kMaxOrder && kMaxPoints == fw::kMaxPoints,
+              "the host estimator's range (io/config.hpp) must be the firmware image's capacity (run_design.hpp)");
+
 namespace {
 
 // The firmware computes in float32; a double beyond its range would become infinite (and the conversion is

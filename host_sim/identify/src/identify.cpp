@@ -9,17 +9,11 @@
 
 namespace lashid::sim {
 
-static_assert(kMaxOrder == 3, "identify_scheme dispatches orders 1..3: add an identify_order_<N>.cpp per order");
-
 SchemeResult identify_scheme(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
                              const IdentifyOptions& options, std::string_view data_name) {
-  switch (config.n) {
-    case 1: return detail::identify_order<1>(config, recording, scheme, options, data_name);
-    case 2: return detail::identify_order<2>(config, recording, scheme, options, data_name);
-    case 3: return detail::identify_order<3>(config, recording, scheme, options, data_name);
-    default:
-      throw DataError(data_name, fmt::format("n = {} is outside the compiled range [1, {}]", config.n, kMaxOrder));
-  }
+  // The recursive estimator in both precisions: grouped least squares (estimator/grouped_rls.hpp).
+  if (options.precision == Precision::kFloat) return detail::run<float>(config, recording, scheme, data_name);
+  return detail::run<double>(config, recording, scheme, data_name);
 }
 
 est::CrossCheck<double> cross_check(const ExperimentConfig& config, const SchemeResult& dis, const SchemeResult& ais) {

@@ -1,6 +1,7 @@
-// Private to host_sim: the estimator run for one model order N, shared by identify_order<N>.cpp. Each order is
-// instantiated in its own translation unit (identify_order_1.cpp ...): the 2 x kMaxPoints estimator instantiations
-// per order are the heaviest compile of the project, and split this way they build in parallel.
+// Private to host_sim: the estimator run on a recording, at the capacity (kMaxOrder, kMaxPoints) the firmware image
+// has, with the config's n and m chosen at run time (SchemeIdentifier::configure(design, n), design.m): the host
+// runs every design the image runs, with the code the image runs. One translation unit per precision
+// (identify_float.cpp, identify_double.cpp), so the two build in parallel.
 #pragma once
 
 #include <string>
@@ -15,10 +16,11 @@
 
 namespace lashid::sim::detail {
 
+/// The first `count` entries of an estimator vector (the estimate of order n and m points; the rest is capacity).
 template <class Vec>
-std::vector<double> to_vector(const Vec& v) {
-  std::vector<double> out(static_cast<std::size_t>(v.size()));
-  for (Eigen::Index i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(i)] = static_cast<double>(v(i));
+std::vector<double> to_vector(const Vec& v, int count) {
+  std::vector<double> out(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) out[static_cast<std::size_t>(i)] = static_cast<double>(v(i));
   return out;
 }
 
@@ -33,7 +35,7 @@ inline std::string describe(est::Status s, const ExperimentConfig& config, est::
   return est::to_string(s);
 }
 
-template <class Scalar, int N, int M, template <class, int, int> class Solver>
+template <class Scalar>
 SchemeResult run(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
                  std::string_view data_name) {
   const bool dis = scheme == est::Scheme::kDescending;
@@ -43,9 +45,17 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
     throw DataError(data_name, fmt::format("the {} needs phases '{}' and '{}'", dis ? "DIS" : "AIS",
                                            to_string(step_phase), to_string(pulse_phase)));
   }
-  const est::ExperimentDesign<Scalar, M> design = experiment_design<Scalar, M>(config, scheme);
-  est::SchemeIdentifier<Scalar, N, M, Solver> id;
-  if (const est::Status s = id.configure(design); s != est::Status::kOk) {
+  if (config.n < kMinOrder || config.n > kMaxOrder) {
+    throw DataError(data_name, fmt::format("n = {} is outside the compiled range [{}, {}]", config.n, kMinOrder,
+                                           kMaxOrder));
+  }
+  if (config.m < kMinPoints || config.m > kMaxPoints) {
+    throw DataError(data_name, fmt::format("m = {} is outside the compiled range [{}, {}]", config.m, kMinPoints,
+                                           kMaxPoints));
+  }
+  const est::ExperimentDesign<Scalar, kMaxPoints> design = experiment_design<Scalar, kMaxPoints>(config, scheme);
+  est::SchemeIdentifier<Scalar, kMaxOrder, kMaxPoints, est::GroupedLeastSquares> id;
+  if (const est::Status s = id.configure(design, config.n); s != est::Status::kOk) {
     throw DataError(data_name, fmt::format("config rejected by the estimator: {}", est::to_string(s)));
   }
   const auto feed = [&](Phase phase, auto add) {
@@ -62,16 +72,17 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   feed(pulse_phase, [&](Scalar v, Scalar y) { return id.add_pulse_sample(v, y); });
 
   const auto e = id.estimate();
+  const int n = config.n, m = config.m;
   SchemeResult r;
   r.scheme = scheme;
   r.status = e.status;
-  r.a = to_vector(e.a);
-  r.b = to_vector(e.b);
-  r.c = to_vector(e.c);
-  r.F = to_vector(e.F);
-  r.F_centered = to_vector(e.F_centered);
-  r.theta = to_vector(e.ls.theta);
-  r.theta_std_error = to_vector(e.ls.std_error);
+  r.a = to_vector(e.a, n);
+  r.b = to_vector(e.b, n);
+  r.c = to_vector(e.c, m);
+  r.F = to_vector(e.F, m);
+  r.F_centered = to_vector(e.F_centered, m);
+  r.theta = to_vector(e.ls.theta, n + n * m);  // [a_1..a_n, mu_11..mu_n1, ..., mu_1m..mu_nm] (recovery.hpp)
+  r.theta_std_error = to_vector(e.ls.std_error, n + n * m);
   r.ybar0 = static_cast<double>(e.ybar0);
   r.held_output = static_cast<double>(e.held_output);
   r.noise_variance = static_cast<double>(e.ls.noise_variance);
@@ -82,28 +93,7 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   return r;
 }
 
-template <int N, int M>
-SchemeResult dispatch_backend(const ExperimentConfig& c, const Recording& rec, est::Scheme s,
-                              const IdentifyOptions& o, std::string_view name) {
-  if (o.precision == Precision::kFloat) return run<float, N, M, est::GroupedLeastSquares>(c, rec, s, name);
-  return run<double, N, M, est::GroupedLeastSquares>(c, rec, s, name);
-}
-
-/// One model order N: dispatches m and the precision. Explicitly instantiated in identify_order_<N>.cpp.
-template <int N>
-SchemeResult identify_order(const ExperimentConfig& c, const Recording& rec, est::Scheme s, const IdentifyOptions& o,
-                            std::string_view name) {
-  SchemeResult r;
-  const bool found = with_compiled_points(c.m, [&]<int M>() { r = dispatch_backend<N, M>(c, rec, s, o, name); });
-  if (!found) throw DataError(name, fmt::format("m = {} is outside the compiled range [1, {}]", c.m, kMaxPoints));
-  return r;
-}
-
-extern template SchemeResult identify_order<1>(const ExperimentConfig&, const Recording&, est::Scheme,
-                                               const IdentifyOptions&, std::string_view);
-extern template SchemeResult identify_order<2>(const ExperimentConfig&, const Recording&, est::Scheme,
-                                               const IdentifyOptions&, std::string_view);
-extern template SchemeResult identify_order<3>(const ExperimentConfig&, const Recording&, est::Scheme,
-                                               const IdentifyOptions&, std::string_view);
+extern template SchemeResult run<float>(const ExperimentConfig&, const Recording&, est::Scheme, std::string_view);
+extern template SchemeResult run<double>(const ExperimentConfig&, const Recording&, est::Scheme, std::string_view);
 
 }  // namespace lashid::sim::detail

@@ -77,28 +77,22 @@ enum class Experiment : std::uint8_t { kStep, kPulse };
 
 // v(0..length-1) of one experiment of one scheme, from the estimator's own generator (est::ExcitationGenerator, the
 // one the firmware runs): (3.4)/(4.1) for the step experiments, (3.1)/(4.2) with the schedule (3.25) for the pulses.
-template <int N, int M>
-std::vector<double> generate(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
-                             std::int64_t length) {
-  const est::ExcitationGenerator<double, N, M> generator(experiment_design<double, M>(c, scheme));
+// The generator at the host's capacity, with the scenario's n and m (kMinOrder..kMaxOrder, kMinPoints..kMaxPoints).
+std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
+                               std::int64_t length) {
+  if (c.n < kMinOrder || c.n > kMaxOrder) {
+    throw std::invalid_argument(fmt::format("n = {} is outside [{}, {}]", c.n, kMinOrder, kMaxOrder));
+  }
+  if (c.m < kMinPoints || c.m > kMaxPoints) {
+    throw std::invalid_argument(fmt::format("m = {} is outside [{}, {}]", c.m, kMinPoints, kMaxPoints));
+  }
+  const est::ExcitationGenerator<double, kMaxOrder, kMaxPoints> generator(
+      experiment_design<double, kMaxPoints>(c, scheme), c.n);
   std::vector<double> v(static_cast<std::size_t>(length));
   for (std::int64_t t = 0; t < length; ++t) {
     v[static_cast<std::size_t>(t)] = experiment == Experiment::kStep ? generator.step_input(t)
                                                                       : generator.pulse_input(t);
   }
-  return v;
-}
-
-// The generator is compiled for fixed (N, M); the scenario's n, m are runtime values in the compiled range.
-std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
-                               std::int64_t length) {
-  std::vector<double> v;
-  bool points_found = false;
-  const bool order_found = with_compiled_order(c.n, [&]<int N>() {
-    points_found = with_compiled_points(c.m, [&]<int M>() { v = generate<N, M>(c, scheme, experiment, length); });
-  });
-  if (!order_found) throw std::invalid_argument(fmt::format("n = {} is outside [1, {}]", c.n, kMaxOrder));
-  if (!points_found) throw std::invalid_argument(fmt::format("m = {} is outside [1, {}]", c.m, kMaxPoints));
   return v;
 }
 

@@ -13,12 +13,13 @@
 
 namespace lashid::sim {
 
-// The range of model sizes the estimator is compiled for. Change them here; config validation and
-// everything else on the host side follows.
+// The range of model sizes the host estimator runs: the capacity it is compiled for, with n and m chosen at run
+// time, the same as the firmware image's (a static_assert in hil/ keeps them equal), so that every recording of a
+// design the image runs can be identified and diagnosed on the host. Config validation follows them.
 inline constexpr int kMinOrder = 1;  // n: order of the linear subsystem A(q^-1), B(q^-1)
-inline constexpr int kMaxOrder = 3;
+inline constexpr int kMaxOrder = 4;
 inline constexpr int kMinPoints = 1;  // m: number of border points per scheme (V_d / V_a)
-inline constexpr int kMaxPoints = 8;
+inline constexpr int kMaxPoints = 10;
 
 // Defaults of the optional experiment lengths (docs/data-format.md), applied by experiment_lengths(). L and the
 // validation length are the paper's example lengths; N is rounded up to whole pulse periods (default_pulse_length).

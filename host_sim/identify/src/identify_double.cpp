@@ -1,0 +1,6 @@
+// The estimator run on a recording in double (see identify_dispatch.hpp).
+#include "identify_dispatch.hpp"
+
+namespace lashid::sim::detail {
+template SchemeResult run<double>(const ExperimentConfig&, const Recording&, est::Scheme, std::string_view);
+}  // namespace lashid::sim::detail

@@ -1,0 +1,6 @@
+// The estimator run on a recording in float (see identify_dispatch.hpp).
+#include "identify_dispatch.hpp"
+
+namespace lashid::sim::detail {
+template SchemeResult run<float>(const ExperimentConfig&, const Recording&, est::Scheme, std::string_view);
+}  // namespace lashid::sim::detail

@@ -1,7 +1,0 @@
-// The estimator instantiations for model order n = 3 (see identify_dispatch.hpp).
-#include "identify_dispatch.hpp"
-
-namespace lashid::sim::detail {
-template SchemeResult identify_order<3>(const ExperimentConfig&, const Recording&, est::Scheme,
-                                         const IdentifyOptions&, std::string_view);
-}  // namespace lashid::sim::detail
