@@ -34,10 +34,26 @@ using Basis = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMa
 
 struct Layout {
   BorderLayout ascending, descending;
-  int parameters = 0;  // 2m - 1
+  int parameters = 0;  // 2m - 1, plus the points between the abscissas
 };
 
-Layout make_layout(const ExperimentConfig& c) {
+// Splits every interval of `border` into `segments` equal parts; the new points get new parameters.
+void subdivide(BorderLayout& border, int segments, int& parameters) {
+  BorderLayout fine;
+  for (std::size_t k = 0; k < border.x.size(); ++k) {
+    if (k > 0) {
+      for (int j = 1; j < segments; ++j) {
+        fine.x.push_back(border.x[k - 1] + (border.x[k] - border.x[k - 1]) * j / segments);
+        fine.param.push_back(parameters++);
+      }
+    }
+    fine.x.push_back(border.x[k]);
+    fine.param.push_back(border.param[k]);
+  }
+  border = std::move(fine);
+}
+
+Layout make_layout(const ExperimentConfig& c, int segments) {
   if (c.V_d.size() != static_cast<std::size_t>(c.m) || c.V_a.size() != static_cast<std::size_t>(c.m)) {
     throw std::invalid_argument("the joint model needs both schemes: V_d and V_a with m points each");
   }
@@ -56,6 +72,10 @@ Layout make_layout(const ExperimentConfig& c) {
     l.ascending.param.push_back(j == 0 ? -1 : m - 1 + j);
   }
   l.parameters = 2 * m - 1;
+  if (segments > 1) {
+    subdivide(l.descending, segments, l.parameters);
+    subdivide(l.ascending, segments, l.parameters);
+  }
   return l;
 }
 
@@ -301,7 +321,7 @@ std::vector<double> effective_input(const std::vector<double>& v, const ModelStr
 
 JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
                            const JointModel* initial) {
-  const Layout layout = make_layout(config);
+  const Layout layout = make_layout(config, std::max(structure.border_segments, 1));
   const std::vector<double> w = effective_input(data.v, structure);
   ModelStructure ls_structure = structure;
   ls_structure.instrumental = false;

@@ -41,6 +41,11 @@ struct ModelStructure {
   int delay = 0;              ///< extra pure delay d between command and effect
   bool drift = false;         ///< y carries an offset that changes linearly over the recording
   bool instrumental = false;  ///< instrumental variables instead of least squares (disturbance not white)
+  /// Segments per interval between the experiment's abscissas in the border tables (1: the abscissas only). More
+  /// segments only matter where the operator's input moves between the levels (an input lag): there a real
+  /// border's curvature between the levels would otherwise bias lambda. Points the data never reach are
+  /// interpolated from their neighbours.
+  int border_segments = 1;
 };
 
 /// A fitted model, in the scaling of (3.11c) (u~ = F - u_M, C~_d(v_min) = -1).
@@ -49,8 +54,8 @@ struct JointModel {
   int n = 0;
   double v_min = 0, v_max = 0;
   std::vector<double> a, b;
-  std::vector<double> descending_v, descending_u;  ///< C~_d table: V_d, then v_max (u~ = 0)
-  std::vector<double> ascending_v, ascending_u;    ///< C~_a table: v_min (u~ = C~_d(v_min)), V_a ascending
+  std::vector<double> descending_v, descending_u;  ///< C~_d table: V_d, then v_max (u~ = 0), and points in between
+  std::vector<double> ascending_v, ascending_u;    ///< C~_a table: v_min (u~ = C~_d(v_min)), V_a ascending, and between
   double kappa0 = 0;            ///< constant of the equation: B(1) u_M + A(1) * offset
   double kappa1 = 0;            ///< coefficient of tau / (samples - 1): A(1) * (offset change over the file)
   double residual_variance = 0; ///< RSS / (rows - parameters) of the fit
