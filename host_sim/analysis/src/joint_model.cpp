@@ -1,6 +1,7 @@
 #include "lashid/analysis/joint_model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -29,13 +30,39 @@ struct BorderLayout {
   std::vector<int> param;
 };
 
-// phi(t) per row; row-major so that a row is contiguous (filled through Ref<RowVectorXd>).
-using Basis = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+// phi(t): the hat weights of w(t) on one border, i.e. at most two border parameters (-1: none). Stored sparse:
+// the regression is accumulated from these few entries per row rather than from a dense design matrix, which
+// makes one fit cheap enough for the hundreds the diagnosis runs per recording.
+struct HatRow {
+  std::array<int, 2> param{-1, -1};
+  std::array<double, 2> weight{0.0, 0.0};
+  friend bool operator==(const HatRow&, const HatRow&) = default;
+};
+using Basis = std::vector<HatRow>;
+
+// A point between the levels, pulled towards the line through its two neighbours on the same border: the
+// smoothness prior that keeps points the data hardly reach from taking wild values. Parameter -1 is the reference
+// u~ = 0 (a constant, so it drops out of the penalty).
+struct SmoothnessStencil {
+  int left = -1, centre = -1, right = -1;
+  double left_weight = 0, right_weight = 0;  // of the linear interpolation at the centre
+};
 
 struct Layout {
   BorderLayout ascending, descending;
-  int parameters = 0;  // 2m - 1, plus the points between the abscissas
+  int parameters = 0;        // 2m - 1, plus the points between the abscissas
+  int level_parameters = 0;  // 2m - 1: the values at the experiment's abscissas
+  std::vector<SmoothnessStencil> stencils;  // one per point between the abscissas
 };
+
+void add_stencils(const BorderLayout& border, int level_parameters, std::vector<SmoothnessStencil>& stencils) {
+  for (std::size_t k = 1; k + 1 < border.x.size(); ++k) {
+    if (border.param[k] < level_parameters) continue;
+    const double span = border.x[k + 1] - border.x[k - 1];
+    stencils.push_back({border.param[k - 1], border.param[k], border.param[k + 1],
+                        (border.x[k + 1] - border.x[k]) / span, (border.x[k] - border.x[k - 1]) / span});
+  }
+}
 
 // Splits every interval of `border` into `segments` equal parts; the new points get new parameters.
 void subdivide(BorderLayout& border, int segments, int& parameters) {
@@ -72,22 +99,27 @@ Layout make_layout(const ExperimentConfig& c, int segments) {
     l.ascending.param.push_back(j == 0 ? -1 : m - 1 + j);
   }
   l.parameters = 2 * m - 1;
+  l.level_parameters = l.parameters;
   if (segments > 1) {
     subdivide(l.descending, segments, l.parameters);
     subdivide(l.ascending, segments, l.parameters);
+    add_stencils(l.descending, l.level_parameters, l.stencils);
+    add_stencils(l.ascending, l.level_parameters, l.stencils);
   }
   return l;
 }
 
-// Adds the hat-function weights of w on `border` to phi (w outside the nodes is clamped, as Border does).
-void add_hat(const BorderLayout& border, double w, Eigen::Ref<Eigen::RowVectorXd> phi) {
+// The hat-function weights of w on `border` (w outside the nodes is clamped, as Border does).
+HatRow hat(const BorderLayout& border, double w) {
   const auto& x = border.x;
   w = std::clamp(w, x.front(), x.back());
   auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), w) - x.begin());
   k = std::clamp<std::size_t>(k, 1, x.size() - 1) - 1;
   const double s = (w - x[k]) / (x[k + 1] - x[k]);
-  if (border.param[k] >= 0) phi(border.param[k]) += 1.0 - s;
-  if (border.param[k + 1] >= 0) phi(border.param[k + 1]) += s;
+  HatRow row;
+  row.param = {border.param[k], border.param[k + 1]};
+  row.weight = {border.param[k] >= 0 ? 1.0 - s : 0.0, border.param[k + 1] >= 0 ? s : 0.0};
+  return row;
 }
 
 // phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
@@ -96,81 +128,126 @@ void add_hat(const BorderLayout& border, double w, Eigen::Ref<Eigen::RowVectorXd
 Basis operator_basis(const Layout& layout, const std::vector<double>& w, OperatorKind op,
                                const JointModel* current) {
   const std::size_t T = w.size();
-  Basis phi = Basis::Zero(static_cast<Eigen::Index>(T), layout.parameters);
+  Basis phi(T);
   std::unique_ptr<HysteresisOperator> model_op;
   if (op == OperatorKind::kBacklash && current != nullptr) model_op = make_model_operator(*current, w[0]);
   double u_prev = model_op ? model_op->step(w[0]) : 0.0;
-  add_hat(layout.descending, w[0], phi.row(0));
+  phi[0] = hat(layout.descending, w[0]);
   for (std::size_t t = 1; t < T; ++t) {
-    const auto row = static_cast<Eigen::Index>(t);
     bool hold = w[t] == w[t - 1];
     if (model_op) {
       const double u = model_op->step(w[t]);
       hold = hold || u == u_prev;
       u_prev = u;
     }
-    if (hold) {
-      phi.row(row) = phi.row(row - 1);
-    } else {
-      add_hat(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t], phi.row(row));
-    }
+    phi[t] = hold ? phi[t - 1] : hat(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t]);
   }
   return phi;
 }
 
 // The stacked regression (3.19) over the identification rows t >= n: columns a_1..a_n, the n x P products
-// b_i c_p, the offset kappa0 and, with drift, kappa1. Z holds the instruments when an IV fit is asked for.
-struct Regression {
-  std::vector<std::size_t> rows;
-  Eigen::MatrixXd X, Z;
-  Eigen::VectorXd Y;
-  int cols = 0;
+// b_i c_p, the offset kappa0 and, with drift, kappa1. A row has at most 3n + 2 non-zero entries; `visit` hands
+// them to `f(t, entries, y(t))`, with the instruments' y lags instead of the outputs' when `instruments_y` is given.
+struct Entry {
+  Eigen::Index column;
+  double value;
 };
 
-Regression build_regression(int n, int P, const FlatRecording& data, const ModelStructure& structure,
-                            const Basis& phi, const std::vector<double>* instruments_y) {
-  Regression g;
-  const std::size_t T = data.size();
+struct RegressionShape {
+  int n = 0, P = 0, cols = 0;
+  std::vector<std::size_t> rows;
+};
+
+RegressionShape regression_shape(int n, int P, const FlatRecording& data, const ModelStructure& structure) {
+  RegressionShape g;
+  g.n = n;
+  g.P = P;
   g.cols = n + n * P + 1 + (structure.drift ? 1 : 0);
-  for (std::size_t t = static_cast<std::size_t>(n); t < T; ++t) {
+  for (std::size_t t = static_cast<std::size_t>(n); t < data.size(); ++t) {
     if (data.is_identification(t)) g.rows.push_back(t);
-  }
-  if (g.rows.size() <= static_cast<std::size_t>(g.cols)) return g;
-  const auto R = static_cast<Eigen::Index>(g.rows.size());
-  g.X.resize(R, g.cols);
-  g.Y.resize(R);
-  if (instruments_y != nullptr) g.Z.resize(R, g.cols);
-  for (Eigen::Index r = 0; r < R; ++r) {
-    const std::size_t t = g.rows[static_cast<std::size_t>(r)];
-    g.Y(r) = data.y[t];
-    for (int i = 1; i <= n; ++i) {
-      g.X(r, i - 1) = -data.y[t - static_cast<std::size_t>(i)];
-      g.X.block(r, n + (i - 1) * P, 1, P) = phi.row(static_cast<Eigen::Index>(t) - i);
-    }
-    g.X(r, n + n * P) = 1.0;
-    if (structure.drift) g.X(r, n + n * P + 1) = tau(t, T);
-    if (instruments_y != nullptr) {
-      g.Z.row(r) = g.X.row(r);
-      for (int i = 1; i <= n; ++i) g.Z(r, i - 1) = -(*instruments_y)[t - static_cast<std::size_t>(i)];
-    }
   }
   return g;
 }
 
+template <class F>
+void visit_rows(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                const Basis& phi, const std::vector<double>* lagged, F f) {
+  const std::vector<double>& y_lags = lagged != nullptr ? *lagged : data.y;
+  std::vector<Entry> entries;
+  for (std::size_t t : g.rows) {
+    entries.clear();
+    for (int i = 1; i <= g.n; ++i) {
+      const std::size_t lag = t - static_cast<std::size_t>(i);
+      entries.push_back({i - 1, -y_lags[lag]});
+      const HatRow& h = phi[lag];
+      for (int k = 0; k < 2; ++k) {
+        if (h.param[static_cast<std::size_t>(k)] >= 0) {
+          entries.push_back({g.n + (i - 1) * g.P + h.param[static_cast<std::size_t>(k)], h.weight[static_cast<std::size_t>(k)]});
+        }
+      }
+    }
+    entries.push_back({g.n + g.n * g.P, 1.0});
+    if (structure.drift) entries.push_back({g.n + g.n * g.P + 1, tau(t, data.size())});
+    f(t, entries, data.y[t]);
+  }
+}
+
+// The normal equations Z'X theta = Z'Y (Z = X for least squares) and the columns' energies on the data rows.
+struct NormalEquations {
+  Eigen::MatrixXd zx;
+  Eigen::VectorXd zy, energy;
+};
+
+NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                                 const Basis& phi, const std::vector<double>* instruments_y) {
+  NormalEquations ne;
+  ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
+  ne.zy = Eigen::VectorXd::Zero(g.cols);
+  ne.energy = Eigen::VectorXd::Zero(g.cols);
+  if (instruments_y == nullptr) {
+    visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
+      for (const Entry& a : x) {
+        ne.zy(a.column) += a.value * y;
+        for (const Entry& b : x) ne.zx(a.column, b.column) += a.value * b.value;
+      }
+    });
+    ne.energy = ne.zx.diagonal();
+    return ne;
+  }
+  // Instruments: the same row with the instruments' lags in the a_i columns (the first n entries of each lag group
+  // are the y lags, in the same order in both visits).
+  std::vector<std::vector<Entry>> z_rows;
+  z_rows.reserve(g.rows.size());
+  visit_rows(g, data, structure, phi, instruments_y,
+             [&](std::size_t, const std::vector<Entry>& z, double) { z_rows.push_back(z); });
+  std::size_t r = 0;
+  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
+    const std::vector<Entry>& z = z_rows[r++];
+    for (const Entry& a : z) {
+      ne.zy(a.column) += a.value * y;
+      for (const Entry& b : x) ne.zx(a.column, b.column) += a.value * b.value;
+    }
+    for (const Entry& b : x) ne.energy(b.column) += b.value * b.value;
+  });
+  return ne;
+}
+
 // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
 // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
-// interpolation afterwards (their value does not affect this data, only the simulation elsewhere).
+// interpolation afterwards (their value does not affect this data, only the simulation elsewhere). Points between
+// the abscissas (p >= first_smoothed) are always kept: the smoothness prior determines them.
 struct ExcitedColumns {
   std::vector<bool> excited;        ///< per border parameter p
   std::vector<Eigen::Index> keep;   ///< the regression columns kept
 };
 
-ExcitedColumns excited_columns(const Eigen::MatrixXd& X, int n, int P, int cols) {
+ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int cols, int first_smoothed) {
   ExcitedColumns e;
   e.excited.assign(static_cast<std::size_t>(P), false);
+  for (int p = first_smoothed; p < P; ++p) e.excited[static_cast<std::size_t>(p)] = true;
   const auto is_basis = [&](Eigen::Index k) { return k >= n && k < n + n * P; };
   for (Eigen::Index k = 0; k < cols; ++k) {
-    if (is_basis(k) && X.col(k).squaredNorm() > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
+    if (is_basis(k) && energy(k) > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
   }
   for (Eigen::Index k = 0; k < cols; ++k) {
     if (!is_basis(k) || e.excited[static_cast<std::size_t>((k - n) % P)]) e.keep.push_back(k);
@@ -178,26 +255,48 @@ ExcitedColumns excited_columns(const Eigen::MatrixXd& X, int n, int P, int cols)
   return e;
 }
 
-// Least squares (column-pivoted QR), or instrumental variables when Z is given. Empty on failure, with `failure`.
-std::optional<Eigen::VectorXd> solve_regression(const Eigen::MatrixXd& X, const Eigen::VectorXd& Y,
-                                                const Eigen::MatrixXd* Z, std::string& failure) {
-  const auto kept = static_cast<int>(X.cols());
-  if (Z == nullptr) {
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+// The smoothness prior as extra rows (zero targets), added to the normal equations: per point between the
+// abscissas and per b_i, sqrt(weight) (b_i c_centre - interpolation of b_i c_left, b_i c_right). `weight` counts in
+// samples: a point reached by many samples follows the data, one reached by few stays near the line through its
+// neighbours. The instruments of these rows are the rows themselves.
+void add_smoothness_prior(const Layout& layout, int n, int P, double weight, NormalEquations& ne) {
+  if (layout.stencils.empty() || !(weight > 0)) return;
+  for (const SmoothnessStencil& st : layout.stencils) {
+    for (int i = 0; i < n; ++i) {
+      std::vector<Entry> row{{n + i * P + st.centre, 1.0}};
+      if (st.left >= 0) row.push_back({n + i * P + st.left, -st.left_weight});
+      if (st.right >= 0) row.push_back({n + i * P + st.right, -st.right_weight});
+      for (const Entry& a : row) {
+        for (const Entry& b : row) ne.zx(a.column, b.column) += weight * a.value * b.value;
+      }
+    }
+  }
+}
+
+// Least squares (symmetric normal equations, columns scaled to unit norm, pivoted QR for the rank), or
+// instrumental variables. Empty on failure, with `failure`.
+std::optional<Eigen::VectorXd> solve_normal_equations(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy,
+                                                      bool instrumental, std::string& failure) {
+  const auto kept = static_cast<int>(zx.cols());
+  if (!instrumental) {
+    const Eigen::VectorXd scale = zx.diagonal().cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd scaled = scale.asDiagonal() * zx * scale.asDiagonal();
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled);
+    qr.setThreshold(1e-12);
     if (qr.rank() < kept) {
       failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
                             "the experiments do not excite every border point",
                             qr.rank(), kept);
       return std::nullopt;
     }
-    return Eigen::VectorXd(qr.solve(Y));
+    return Eigen::VectorXd(scale.asDiagonal() * qr.solve(Eigen::VectorXd(scale.asDiagonal() * zy)));
   }
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Z->transpose() * X);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(zx);
   if (!lu.isInvertible()) {
     failure = "the instrumental-variable system is singular";
     return std::nullopt;
   }
-  return Eigen::VectorXd(lu.solve(Z->transpose() * Y));
+  return Eigen::VectorXd(lu.solve(zy));
 }
 
 // The border values at the layout's abscissas from the factor c; unexcited points by linear interpolation between
@@ -229,7 +328,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
                           const std::vector<double>* instruments_y) {
   const int n = config.n;
   const int P = layout.parameters;
-  Regression g = build_regression(n, P, data, structure, phi, instruments_y);
+  const RegressionShape g = regression_shape(n, P, data, structure);
   const int cols = g.cols;
   JointModel model;
   model.structure = structure;
@@ -242,22 +341,27 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     model.failure = fmt::format("{} identification rows for {} parameters", g.rows.size(), cols);
     return model;
   }
-  const ExcitedColumns columns = excited_columns(g.X, n, P, cols);
-  if (static_cast<Eigen::Index>(columns.keep.size()) < cols) {
-    g.X = g.X(Eigen::all, columns.keep).eval();
-    if (instruments_y != nullptr) g.Z = g.Z(Eigen::all, columns.keep).eval();
-    model.parameters = static_cast<int>(columns.keep.size());
-  }
-  const std::optional<Eigen::VectorXd> reduced =
-      solve_regression(g.X, g.Y, instruments_y != nullptr ? &g.Z : nullptr, model.failure);
+  NormalEquations ne = normal_equations(g, data, structure, phi, instruments_y);
+  const ExcitedColumns columns = excited_columns(ne.energy, n, P, cols, layout.level_parameters);
+  add_smoothness_prior(layout, n, P, structure.border_smoothness, ne);
+  const auto& keep = columns.keep;
+  model.parameters = static_cast<int>(keep.size());
+  const Eigen::MatrixXd zx = ne.zx(keep, keep);
+  const Eigen::VectorXd zy = ne.zy(keep);
+  const std::optional<Eigen::VectorXd> reduced = solve_normal_equations(zx, zy, instruments_y != nullptr,
+                                                                        model.failure);
   if (!reduced) return model;
-  const Eigen::VectorXd residuals = g.Y - g.X * *reduced;
-  model.rss = residuals.squaredNorm();
-  model.residuals.assign(residuals.data(), residuals.data() + residuals.size());
-  model.residual_t = g.rows;
-  model.residual_variance = model.rss / static_cast<double>(g.Y.size() - g.X.cols());
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
-  for (std::size_t i = 0; i < columns.keep.size(); ++i) theta(columns.keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
+  model.residuals.reserve(g.rows.size());
+  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
+    double fitted = 0;
+    for (const Entry& e : x) fitted += e.value * theta(e.column);
+    model.residuals.push_back(y - fitted);
+    model.rss += (y - fitted) * (y - fitted);
+  });
+  model.residual_t = g.rows;
+  model.residual_variance = model.rss / static_cast<double>(g.rows.size() - keep.size());
   model.a.assign(theta.data(), theta.data() + n);
   Eigen::MatrixXd products(n, P);
   for (int i = 0; i < n; ++i) products.row(i) = theta.segment(n + i * P, P).transpose();

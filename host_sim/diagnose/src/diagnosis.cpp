@@ -68,10 +68,12 @@ void accept(Diagnosis& d, CurrentModel& current, const CandidateCause& c, const 
   added.parameters = c.parameters;
   added.likelihood_ratio = c.cause == Cause::kColoredNoise ? 0.0 : c.likelihood_ratio;
   added.fit_before = current.fit;
+  added.ljung_box_before = current.identification.whiteness.statistic;
   current.model = c.model;
   current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
   current.identification = residuals(current.model, data, false);
   added.fit_after = current.fit;
+  added.ljung_box_after = current.identification.whiteness.statistic;
   d.added.push_back(std::move(added));
 }
 
@@ -131,7 +133,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     }
     if (flipped.model.ok && flipped.p_value == 0.0) accept(d, current, flipped, data);
   }
-  if (!white(current.identification, options)) {
+  if (current.identification.whiteness.p_value < options.coloured_p) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     if (iv.model.ok) accept(d, current, iv, data);
   }

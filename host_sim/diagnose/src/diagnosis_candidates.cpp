@@ -33,6 +33,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
                             const DiagnosisOptions& options, std::optional<double> lambda_near) {
   ModelStructure s = current.structure;
   s.border_segments = options.lag_border_segments;
+  s.border_smoothness = options.lag_border_smoothness;
   const auto fit = [&](double lambda) {
     s.input_lag = lambda;
     return fit_joint_model(config, data, s, &current);

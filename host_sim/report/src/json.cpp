@@ -88,7 +88,9 @@ nlohmann::json to_json(const Diagnosis& d) {
                      {"likelihood_ratio", a.likelihood_ratio},
                      {"fit_before", a.fit_before},
                      {"fit_after", a.fit_after},
-                     {"gain", a.fit_after - a.fit_before}});
+                     {"gain", a.fit_after - a.fit_before},
+                     {"ljung_box_before", a.ljung_box_before},
+                     {"ljung_box_after", a.ljung_box_after}});
   }
   return {{"cause", to_string(d.cause)},
           {"causes", std::move(causes)},

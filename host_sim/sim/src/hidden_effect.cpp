@@ -56,7 +56,8 @@ struct BorderCurves {
   }
   double half_gap(double s) const {
     const double ripple = 1.0 + gap_ripple * std::sin(2.0 * std::numbers::pi * gap_cycles * s + gap_phase);
-    return gap * std::pow(std::sin(std::numbers::pi * s), 0.7) * ripple;
+    // sin(pi s) is -1e-16 rather than 0 at s = 1 + rounding: clamp, so that pow stays real.
+    return gap * std::pow(std::max(std::sin(std::numbers::pi * s), 0.0), 0.7) * ripple;
   }
 };
 
@@ -91,7 +92,8 @@ std::pair<Border, Border> make_borders(const BorderCurves& curves, BorderShape s
   if (shape == BorderShape::kCurved) {
     constexpr int kSegments = 400;
     abscissas.clear();
-    for (int k = 0; k <= kSegments; ++k) abscissas.push_back(v_min + (v_max - v_min) * k / kSegments);
+    for (int k = 0; k < kSegments; ++k) abscissas.push_back(v_min + (v_max - v_min) * k / kSegments);
+    abscissas.push_back(v_max);
   }
   std::vector<std::pair<double, double>> ascending, descending;
   for (double v : abscissas) {

@@ -46,6 +46,8 @@ struct ModelStructure {
   /// border's curvature between the levels would otherwise bias lambda. Points the data never reach are
   /// interpolated from their neighbours.
   int border_segments = 1;
+  /// Weight, in samples, of the prior that a point between the abscissas lies on the line through its neighbours.
+  double border_smoothness = 20.0;
 };
 
 /// A fitted model, in the scaling of (3.11c) (u~ = F - u_M, C~_d(v_min) = -1).

@@ -59,6 +59,7 @@ struct AddedCause {
   CauseParameters parameters;   ///< of this cause alone
   double likelihood_ratio = 0;  ///< N ln(RSS_before / RSS_after) on the identification phases (0 for colored_noise)
   double fit_before = 0, fit_after = 0;  ///< val simulation fit without and with this cause
+  double ljung_box_before = 0, ljung_box_after = 0;  ///< of the identification residuals without and with it
 };
 
 struct Diagnosis {
@@ -88,9 +89,13 @@ struct DiagnosisOptions {
   double explaining_val_gain = 5.0;
   /// The val check: a structural extension is accepted only if it raises the val fit by more than this many points.
   double min_val_gain = 0.5;
+  /// colored_noise needs identification residuals non-white at this Ljung-Box p-value (after the structural causes:
+  /// a structure's own small mismatch, e.g. curved borders, leaves mildly coloured residuals, sensor noise does not).
+  double coloured_p = 1e-4;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
   int lag_border_segments = 3;     ///< border segments per interval between the levels in input-lag models
+  double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
   int golden_iterations = 8;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
 };
