@@ -55,9 +55,11 @@ struct Layout {
   std::vector<SmoothnessStencil> stencils;  // one per point between the abscissas
 };
 
-void add_stencils(const BorderLayout& border, int level_parameters, std::vector<SmoothnessStencil>& stencils) {
+// One stencil per interior node; those of the experiment's abscissas apply only where the data do not reach the
+// node (otherwise the data decide, and a real border may have a kink there).
+void add_stencils(const BorderLayout& border, std::vector<SmoothnessStencil>& stencils) {
   for (std::size_t k = 1; k + 1 < border.x.size(); ++k) {
-    if (border.param[k] < level_parameters) continue;
+    if (border.param[k] < 0) continue;
     const double span = border.x[k + 1] - border.x[k - 1];
     stencils.push_back({border.param[k - 1], border.param[k], border.param[k + 1],
                         (border.x[k + 1] - border.x[k]) / span, (border.x[k] - border.x[k - 1]) / span});
@@ -103,8 +105,8 @@ Layout make_layout(const ExperimentConfig& c, int segments) {
   if (segments > 1) {
     subdivide(l.descending, segments, l.parameters);
     subdivide(l.ascending, segments, l.parameters);
-    add_stencils(l.descending, l.level_parameters, l.stencils);
-    add_stencils(l.ascending, l.level_parameters, l.stencils);
+    add_stencils(l.descending, l.stencils);
+    add_stencils(l.ascending, l.stencils);
   }
   return l;
 }
@@ -235,7 +237,8 @@ NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& 
 // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
 // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
 // interpolation afterwards (their value does not affect this data, only the simulation elsewhere). Points between
-// the abscissas (p >= first_smoothed) are always kept: the smoothness prior determines them.
+// the abscissas (p >= first_smoothed) exist only with the smoothness prior, which then determines every point the
+// data do not reach.
 struct ExcitedColumns {
   std::vector<bool> excited;        ///< per border parameter p
   std::vector<Eigen::Index> keep;   ///< the regression columns kept
@@ -244,7 +247,8 @@ struct ExcitedColumns {
 ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int cols, int first_smoothed) {
   ExcitedColumns e;
   e.excited.assign(static_cast<std::size_t>(P), false);
-  for (int p = first_smoothed; p < P; ++p) e.excited[static_cast<std::size_t>(p)] = true;
+  // With a smoothness prior (points between the abscissas), every point is determined: by the data or the prior.
+  if (first_smoothed < P) e.excited.assign(static_cast<std::size_t>(P), true);
   const auto is_basis = [&](Eigen::Index k) { return k >= n && k < n + n * P; };
   for (Eigen::Index k = 0; k < cols; ++k) {
     if (is_basis(k) && energy(k) > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
@@ -262,6 +266,7 @@ ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int 
 void add_smoothness_prior(const Layout& layout, int n, int P, double weight, NormalEquations& ne) {
   if (layout.stencils.empty() || !(weight > 0)) return;
   for (const SmoothnessStencil& st : layout.stencils) {
+    if (st.centre < layout.level_parameters && ne.energy(n + st.centre) > 0) continue;
     for (int i = 0; i < n; ++i) {
       std::vector<Entry> row{{n + i * P + st.centre, 1.0}};
       if (st.left >= 0) row.push_back({n + i * P + st.left, -st.left_weight});

@@ -135,7 +135,13 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   }
   if (current.identification.whiteness.p_value < options.coloured_p) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
-    if (iv.model.ok) accept(d, current, iv, data);
+    // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
+    // simulates val at least as well (an IV fit of a large structure can be unstable).
+    if (iv.model.ok && val_fit(iv.model, data, d.val_begin, d.val_end) < current.fit) {
+      iv.model = current.model;
+      iv.parameters.instrumental_variables = false;
+    }
+    accept(d, current, iv, data);
   }
   d.extended = current.model;
   d.fit_extended = current.fit;
@@ -157,7 +163,7 @@ CauseParameters combined_parameters(const Diagnosis& d) {
         p.drift_total = d.extended.drift_total();
         break;
       case Cause::kColoredNoise:
-        p.instrumental_variables = true;
+        p.instrumental_variables = d.extended.structure.instrumental;
         break;
       case Cause::kOperatorType:
         p.op = d.extended.structure.op;

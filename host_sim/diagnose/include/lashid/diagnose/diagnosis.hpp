@@ -34,7 +34,8 @@ struct CauseParameters {
   std::optional<double> lambda;        ///< input_lag
   std::optional<int> delay;            ///< dead_time, in samples
   std::optional<double> drift_total;   ///< sensor_drift: offset change over the file
-  bool instrumental_variables = false; ///< colored_noise: the extended model is the IV estimate
+  bool instrumental_variables = false; ///< colored_noise: the extended model is the IV estimate (false when the IV
+                                       ///< model simulated val worse and the least-squares one was kept)
   std::optional<OperatorKind> op;      ///< operator_type: the operator the data supports
   friend bool operator==(const CauseParameters&, const CauseParameters&) = default;
 };
