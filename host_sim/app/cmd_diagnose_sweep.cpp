@@ -133,6 +133,7 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
   }
   DiagnosisOptions tuning;  // TEMPORARY tuning hook
   if (const char* e = std::getenv("TUNE_SEGMENTS")) tuning.lag_border_segments = std::atoi(e);
+  if (const char* e = std::getenv("TUNE_SEARCH")) tuning.lag_search_segments = std::atoi(e);
   if (const char* e = std::getenv("TUNE_SMOOTH")) tuning.lag_border_smoothness = std::atof(e);
   if (const char* e = std::getenv("TUNE_MINGAIN")) tuning.min_val_gain = std::atof(e);
   if (const char* e = std::getenv("TUNE_EXPLAIN")) tuning.explaining_val_gain = std::atof(e);
@@ -176,6 +177,10 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
         for (const AddedCause& a : d.added) {
           steps += fmt::format(" +{} LR {:.0f} Q {:.0f}->{:.0f} fit {:.1f}->{:.1f};", to_string(a.cause),
                                a.likelihood_ratio, a.ljung_box_before, a.ljung_box_after, a.fit_before, a.fit_after);
+        }
+        for (const CandidateCause& cand : d.candidates) {
+          steps += fmt::format(" [{} LR {:.0f} Q {:.0f} fit {:.1f}]", to_string(cand.cause).substr(0, 5),
+                               cand.likelihood_ratio, cand.identification.whiteness.statistic, cand.fit_val);
         }
         fmt::print("{} {} seed {} n={} m={} {} -> {} {} (fit {:.1f} -> {:.1f}, true {:.1f}) truth l={:.3f} d={} "
                    "D={:.3g} |{} {:.2f} s (plant {:.1f})\n",

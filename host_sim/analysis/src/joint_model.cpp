@@ -284,17 +284,20 @@ std::optional<Eigen::VectorXd> solve_normal_equations(const Eigen::MatrixXd& zx,
                                                       bool instrumental, std::string& failure) {
   const auto kept = static_cast<int>(zx.cols());
   if (!instrumental) {
+    // Pivoted LDL' of the scaled (unit-diagonal) matrix: a pivot below 1e-12 means a column is a combination of
+    // the others (in X's terms, a singular value below 1e-6 of the largest).
     const Eigen::VectorXd scale = zx.diagonal().cwiseSqrt().cwiseInverse();
     const Eigen::MatrixXd scaled = scale.asDiagonal() * zx * scale.asDiagonal();
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled);
-    qr.setThreshold(1e-12);
-    if (qr.rank() < kept) {
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(scaled);
+    const Eigen::VectorXd pivots = ldlt.vectorD();
+    const auto independent = static_cast<int>((pivots.array() > 1e-12).count());
+    if (ldlt.info() != Eigen::Success || independent < kept) {
       failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
                             "the experiments do not excite every border point",
-                            qr.rank(), kept);
+                            independent, kept);
       return std::nullopt;
     }
-    return Eigen::VectorXd(scale.asDiagonal() * qr.solve(Eigen::VectorXd(scale.asDiagonal() * zy)));
+    return Eigen::VectorXd(scale.asDiagonal() * ldlt.solve(Eigen::VectorXd(scale.asDiagonal() * zy)));
   }
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(zx);
   if (!lu.isInvertible()) {

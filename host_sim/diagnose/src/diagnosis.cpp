@@ -36,9 +36,6 @@ void check_diagnosable(const ExperimentConfig& config, const Recording& recordin
   }
 }
 
-constexpr std::array<Cause, 4> kStructuralCauses = {Cause::kInputLag, Cause::kDeadTime, Cause::kSensorDrift,
-                                                    Cause::kOperatorType};
-
 // The model the selection has built so far, with the evidence the next step compares against.
 struct CurrentModel {
   JointModel model;
@@ -77,20 +74,32 @@ void accept(Diagnosis& d, CurrentModel& current, const CandidateCause& c, const 
   d.added.push_back(std::move(added));
 }
 
-// Forward selection. Each round adds the structural cause with the largest likelihood ratio among the supported
-// ones, and refits the others on top of it; only causes significant in the first round (against the nominal
-// model) are tried again. When no structural cause is left: the other operator type if the residuals are white
-// and it brings the val error energy below operator_sse_ratio of the current one (the experiments make F act as
-// a static map, so only val's reversals tell a switch from a backlash); then colored_noise if the residuals are
-// still not white (the extended model becomes the instrumental-variable fit of the structure found).
+// Whether a flipped operator type is supported: it must bring the val error energy below operator_sse_ratio of
+// the current model's (score_candidate's p_value 0). The experiments usually make F act as a static map, so only
+// val's reversals tell a switch from a backlash; the structural test also applies when they do not.
+bool operator_accepted(const CandidateCause& c, const CurrentModel& current, const DiagnosisOptions& options) {
+  return c.model.ok && (c.p_value == 0.0 || structural_accepted(c, current, options));
+}
+
+bool accepted(const CandidateCause& c, const CurrentModel& current, const DiagnosisOptions& options) {
+  return c.cause == Cause::kOperatorType ? operator_accepted(c, current, options)
+                                         : structural_accepted(c, current, options);
+}
+
+// Forward selection. Each round adds, among the supported candidates, the one that simulates val best (the
+// likelihood ratio alone prefers an input lag with its flexible borders over a true dead time), and refits the
+// others on top of it. Candidates: the structural causes significant in the first round (against the nominal
+// model) and the other operator type. When no single candidate is supported but two significant ones are, the
+// two together are tried (an input lag and a drift can each look worse on val without the other). Then
+// colored_noise if the residuals are still not white (the extended model becomes the instrumental-variable fit of
+// the structure found, if that simulates val as well).
 void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecording& data,
                    const DiagnosisOptions& options) {
   CurrentModel current{d.nominal, d.fit_nominal, d.val_nominal, d.identification};
   std::vector<CandidateCause> round;
   for (const CandidateCause& c : d.candidates) {
-    const bool structural = std::find(kStructuralCauses.begin(), kStructuralCauses.end(), c.cause) !=
-                            kStructuralCauses.end();
-    if (structural && c.model.ok && stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) < options.structural_p) {
+    const bool significant = stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) < options.structural_p;
+    if (c.model.ok && (c.cause == Cause::kOperatorType || (c.cause != Cause::kColoredNoise && significant))) {
       round.push_back(c);
     }
   }
@@ -100,38 +109,43 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     }
     return std::nullopt;
   };
-  bool operator_flipped = false;
+  const auto refit = [&](Cause cause, const JointModel& base, const JointModel& before,
+                         std::span<const double> before_val) {
+    CandidateCause c = extend_model(config, data, base, cause, options,
+                                    cause == Cause::kInputLag ? first_round_lambda() : std::nullopt);
+    score_candidate(c, before, before_val, data, d.val_begin, d.val_end, options);
+    return c;
+  };
   while (!round.empty()) {
     const CandidateCause* best = nullptr;
     for (const CandidateCause& c : round) {
-      if (structural_accepted(c, current, options) && (best == nullptr || c.likelihood_ratio > best->likelihood_ratio)) {
-        best = &c;
-      }
+      if (accepted(c, current, options) && (best == nullptr || c.fit_val > best->fit_val)) best = &c;
     }
-    if (best == nullptr) break;
-    const Cause added = best->cause;
-    operator_flipped = operator_flipped || added == Cause::kOperatorType;
-    accept(d, current, *best, data);
+    std::vector<Cause> added;
+    if (best != nullptr) {
+      added.push_back(best->cause);
+      accept(d, current, *best, data);
+    } else {
+      std::vector<const CandidateCause*> structural;
+      for (const CandidateCause& c : round) {
+        if (c.cause != Cause::kOperatorType && c.model.ok) structural.push_back(&c);
+      }
+      if (structural.size() < 2) break;
+      std::sort(structural.begin(), structural.end(),
+                [](const auto* a, const auto* b) { return a->likelihood_ratio > b->likelihood_ratio; });
+      const CandidateCause& first = *structural[0];
+      CandidateCause both = refit(structural[1]->cause, first.model, current.model, current.val_simulation);
+      if (!structural_accepted(both, current, options)) break;
+      added = {first.cause, both.cause};
+      accept(d, current, first, data);
+      accept(d, current, both, data);
+    }
     std::vector<CandidateCause> next;
     for (const CandidateCause& c : round) {
-      if (c.cause == added) continue;
-      CandidateCause refit = extend_model(config, data, current.model, c.cause, options,
-                                          c.cause == Cause::kInputLag ? first_round_lambda() : std::nullopt);
-      score_candidate(refit, current.model, current.val_simulation, data, d.val_begin, d.val_end, options);
-      next.push_back(std::move(refit));
+      if (std::find(added.begin(), added.end(), c.cause) != added.end()) continue;
+      next.push_back(refit(c.cause, current.model, current.model, current.val_simulation));
     }
     round = std::move(next);
-  }
-  if (!operator_flipped && white(current.identification, options)) {
-    CandidateCause flipped;
-    if (d.added.empty()) {
-      flipped = *std::find_if(d.candidates.begin(), d.candidates.end(),
-                              [](const CandidateCause& c) { return c.cause == Cause::kOperatorType; });
-    } else {
-      flipped = extend_model(config, data, current.model, Cause::kOperatorType, options);
-      score_candidate(flipped, current.model, current.val_simulation, data, d.val_begin, d.val_end, options);
-    }
-    if (flipped.model.ok && flipped.p_value == 0.0) accept(d, current, flipped, data);
   }
   if (current.identification.whiteness.p_value < options.coloured_p) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);

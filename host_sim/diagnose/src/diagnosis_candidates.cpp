@@ -26,16 +26,18 @@ ResidualAnalysis analyse(const std::vector<double>& e, const std::vector<double>
 
 double rss_or_infinity(const JointModel& m) { return m.ok ? m.rss : std::numeric_limits<double>::infinity(); }
 
-// Input lag: RSS(lambda) on a 0.05 grid, then a golden-section refinement around the best grid point. The border
-// tables get points between the abscissas (options.lag_border_segments): the lag moves the operator's input
-// between the levels, where a real border is curved and a linear interpolation would bias lambda.
+// Input lag: RSS(lambda) on a 0.05 grid, then a golden-section refinement within +-0.1 of the best grid point.
+// The border tables get points between the abscissas: the lag moves the operator's input between the levels,
+// where a real border is curved and a linear interpolation biases lambda. The grid uses a few points per
+// interval (options.lag_search_segments: cheap, enough to find the neighbourhood); the refinement and the model
+// kept use more (options.lag_border_segments), held smooth by a prior where the data are thin.
 JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
                             const DiagnosisOptions& options, std::optional<double> lambda_near) {
   ModelStructure s = current.structure;
-  s.border_segments = options.lag_border_segments;
   s.border_smoothness = options.lag_border_smoothness;
-  const auto fit = [&](double lambda) {
+  const auto fit = [&](double lambda, int segments) {
     s.input_lag = lambda;
+    s.border_segments = segments;
     return fit_joint_model(config, data, s, &current);
   };
   double lo = 0.05, hi = options.max_input_lag;
@@ -43,31 +45,32 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
     lo = std::max(lo, *lambda_near - 0.1);
     hi = std::min(hi, *lambda_near + 0.1);
   }
-  JointModel best;
+  double best_rss = std::numeric_limits<double>::infinity();
   double best_lambda = 0;
   for (double lambda = lo; lambda <= hi + 1e-9; lambda += 0.05) {
-    JointModel m = fit(lambda);
-    if (m.ok && m.rss < rss_or_infinity(best)) {
-      best = std::move(m);
+    const JointModel m = fit(lambda, options.lag_search_segments);
+    if (m.ok && m.rss < best_rss) {
+      best_rss = m.rss;
       best_lambda = lambda;
     }
   }
-  if (!best.ok) return current;
-  double a = std::max(best_lambda - 0.05, 0.0), b = std::min(best_lambda + 0.05, options.max_input_lag);
+  if (best_lambda == 0) return current;
+  JointModel best = fit(best_lambda, options.lag_border_segments);
+  double a = std::max(best_lambda - 0.1, 0.0), b = std::min(best_lambda + 0.1, options.max_input_lag);
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
   for (int it = 0; it < options.golden_iterations; ++it) {
     const double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    JointModel m1 = fit(x1), m2 = fit(x2);
+    JointModel m1 = fit(x1, options.lag_border_segments), m2 = fit(x2, options.lag_border_segments);
     const double r1 = rss_or_infinity(m1), r2 = rss_or_infinity(m2);
     if (r1 < r2) {
       b = x2;
-      if (r1 < best.rss) best = std::move(m1);
+      if (r1 < rss_or_infinity(best)) best = std::move(m1);
     } else {
       a = x1;
-      if (r2 < best.rss) best = std::move(m2);
+      if (r2 < rss_or_infinity(best)) best = std::move(m2);
     }
   }
-  return best;
+  return best.ok ? best : current;
 }
 
 JointModel search_dead_time(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,

@@ -95,7 +95,8 @@ struct DiagnosisOptions {
   double coloured_p = 1e-4;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
-  int lag_border_segments = 3;     ///< border segments per interval between the levels in input-lag models
+  int lag_search_segments = 3;     ///< border segments per interval between the levels in the lambda grid search
+  int lag_border_segments = 10;    ///< and in the refinement and the input-lag model kept
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
   int golden_iterations = 8;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
