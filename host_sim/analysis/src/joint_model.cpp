@@ -432,7 +432,7 @@ std::vector<double> effective_input(const std::vector<double>& v, const ModelStr
 }
 
 JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
-                           const JointModel* initial) {
+                           const JointModel* initial, bool only_from_initial) {
   const Layout layout = make_layout(config, std::max(structure.border_segments, 1));
   const std::vector<double> w = effective_input(data.v, structure);
   ModelStructure ls_structure = structure;
@@ -459,8 +459,9 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     }
     return std::pair{std::move(model), std::move(phi)};
   };
-  auto [model, phi] = fit_from(nullptr);
-  if (initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash) {
+  const bool from_initial = initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash;
+  auto [model, phi] = fit_from(from_initial && only_from_initial ? initial : nullptr);
+  if (from_initial && !only_from_initial) {
     auto [other, other_phi] = fit_from(initial);
     if (other.ok && (!model.ok || other.rss < model.rss)) {
       model = std::move(other);

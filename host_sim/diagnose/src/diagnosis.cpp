@@ -81,17 +81,31 @@ bool operator_accepted(const CandidateCause& c, const CurrentModel& current, con
   return c.model.ok && (c.p_value == 0.0 || structural_accepted(c, current, options));
 }
 
-bool accepted(const CandidateCause& c, const CurrentModel& current, const DiagnosisOptions& options) {
-  return c.cause == Cause::kOperatorType ? operator_accepted(c, current, options)
-                                         : structural_accepted(c, current, options);
+// An input lag found before another cause was fitted without it (a drift, say, biases lambda): once the selection
+// is done, lambda is searched again with every other cause in the model, and the refit kept if it fits better.
+void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config, const FlatRecording& data,
+                      const DiagnosisOptions& options) {
+  const auto lag = std::find_if(d.added.begin(), d.added.end(),
+                                [](const AddedCause& a) { return a.cause == Cause::kInputLag; });
+  if (lag == d.added.end() || lag + 1 == d.added.end()) return;
+  ModelStructure without_lag = current.model.structure;
+  without_lag.input_lag = 0;
+  without_lag.border_segments = 1;
+  const JointModel base = fit_joint_model(config, data, without_lag, &current.model);
+  if (!base.ok) return;
+  const CandidateCause refit = extend_model(config, data, base, Cause::kInputLag, options);
+  if (!refit.model.ok || !(refit.model.rss < current.model.rss)) return;
+  current.model = refit.model;
+  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.identification = residuals(current.model, data, false);
 }
 
-// Forward selection. Each round adds, among the supported candidates, the one that simulates val best (the
-// likelihood ratio alone prefers an input lag with its flexible borders over a true dead time), and refits the
-// others on top of it. Candidates: the structural causes significant in the first round (against the nominal
-// model) and the other operator type. When no single candidate is supported but two significant ones are, the
-// two together are tried (an input lag and a drift can each look worse on val without the other). Then
-// colored_noise if the residuals are still not white (the extended model becomes the instrumental-variable fit of
+// Forward selection. Each round adds, among the supported structural candidates (the causes significant in the
+// first round against the nominal model, and the other operator type if the identification phases can judge it),
+// the one that simulates val best (the likelihood ratio alone prefers an input lag with its flexible borders over
+// a true dead time), and refits the others on top of it. When no single one is supported, the two most
+// significant together are tried (an input lag and a drift can each look worse on val without the other); then
+// the other operator type by its val error alone. Then colored_noise if the residuals are still not white (the extended model becomes the instrumental-variable fit of
 // the structure found, if that simulates val as well).
 void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecording& data,
                    const DiagnosisOptions& options) {
@@ -119,26 +133,35 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   while (!round.empty()) {
     const CandidateCause* best = nullptr;
     for (const CandidateCause& c : round) {
-      if (accepted(c, current, options) && (best == nullptr || c.fit_val > best->fit_val)) best = &c;
+      if (structural_accepted(c, current, options) && (best == nullptr || c.fit_val > best->fit_val)) best = &c;
     }
     std::vector<Cause> added;
+    std::vector<const CandidateCause*> structural;
+    for (const CandidateCause& c : round) {
+      if (c.cause != Cause::kOperatorType && c.model.ok) structural.push_back(&c);
+    }
+    std::sort(structural.begin(), structural.end(),
+              [](const auto* a, const auto* b) { return a->likelihood_ratio > b->likelihood_ratio; });
     if (best != nullptr) {
       added.push_back(best->cause);
       accept(d, current, *best, data);
-    } else {
-      std::vector<const CandidateCause*> structural;
-      for (const CandidateCause& c : round) {
-        if (c.cause != Cause::kOperatorType && c.model.ok) structural.push_back(&c);
-      }
-      if (structural.size() < 2) break;
-      std::sort(structural.begin(), structural.end(),
-                [](const auto* a, const auto* b) { return a->likelihood_ratio > b->likelihood_ratio; });
+    } else if (structural.size() >= 2) {
       const CandidateCause& first = *structural[0];
       CandidateCause both = refit(structural[1]->cause, first.model, current.model, current.val_simulation);
-      if (!structural_accepted(both, current, options)) break;
-      added = {first.cause, both.cause};
-      accept(d, current, first, data);
-      accept(d, current, both, data);
+      if (structural_accepted(both, current, options)) {
+        added = {first.cause, both.cause};
+        accept(d, current, first, data);
+        accept(d, current, both, data);
+      }
+    }
+    if (added.empty()) {
+      // Last: the other operator type by its val error alone (the identification phases cannot judge it).
+      const auto flipped = std::find_if(round.begin(), round.end(), [&](const CandidateCause& c) {
+        return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
+      });
+      if (flipped == round.end()) break;
+      added.push_back(Cause::kOperatorType);
+      accept(d, current, *flipped, data);
     }
     std::vector<CandidateCause> next;
     for (const CandidateCause& c : round) {
@@ -147,6 +170,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     }
     round = std::move(next);
   }
+  refine_input_lag(d, current, config, data, options);
   if (current.identification.whiteness.p_value < options.coloured_p) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it

@@ -38,7 +38,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const auto fit = [&](double lambda, int segments) {
     s.input_lag = lambda;
     s.border_segments = segments;
-    return fit_joint_model(config, data, s, &current);
+    return fit_joint_model(config, data, s, &current, true);
   };
   double lo = 0.05, hi = options.max_input_lag;
   if (lambda_near) {

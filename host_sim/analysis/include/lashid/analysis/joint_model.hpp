@@ -76,9 +76,11 @@ struct JointModel {
 };
 
 /// Fits `structure` to the identification phases of `data` (the val phase is never used). For a backlash,
-/// `initial` (optional, same config) gives a second starting point for the operator's regimes.
+/// `initial` (optional, same config) gives a second starting point for the operator's regimes; with
+/// `only_from_initial`, the only one (the switch's regimes, the other start, are a poor guess behind an input lag,
+/// and a search over lambda that starts every fit from a good model saves half its time).
 JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
-                           const JointModel* initial = nullptr);
+                           const JointModel* initial = nullptr, bool only_from_initial = false);
 
 /// The command w(t) the operator sees: v delayed by d, then through G(lambda) (at rest on v(0) before t = 0).
 std::vector<double> effective_input(const std::vector<double>& v, const ModelStructure& structure);

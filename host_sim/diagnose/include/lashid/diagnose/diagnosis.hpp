@@ -98,7 +98,7 @@ struct DiagnosisOptions {
   int lag_search_segments = 3;     ///< border segments per interval between the levels in the lambda grid search
   int lag_border_segments = 10;    ///< and in the refinement and the input-lag model kept
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
-  int golden_iterations = 8;       ///< golden-section steps of the lambda search after the 0.05 grid
+  int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
 };
 
