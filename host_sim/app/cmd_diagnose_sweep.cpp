@@ -133,7 +133,6 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
   }
   DiagnosisOptions tuning;  // TEMPORARY tuning hook
   if (const char* e = std::getenv("TUNE_SEGMENTS")) tuning.lag_border_segments = std::atoi(e);
-  if (const char* e = std::getenv("TUNE_SEARCH")) tuning.lag_search_segments = std::atoi(e);
   if (const char* e = std::getenv("TUNE_SMOOTH")) tuning.lag_border_smoothness = std::atof(e);
   if (const char* e = std::getenv("TUNE_MINGAIN")) tuning.min_val_gain = std::atof(e);
   if (const char* e = std::getenv("TUNE_EXPLAIN")) tuning.explaining_val_gain = std::atof(e);

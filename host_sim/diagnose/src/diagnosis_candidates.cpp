@@ -26,41 +26,13 @@ ResidualAnalysis analyse(const std::vector<double>& e, const std::vector<double>
 
 double rss_or_infinity(const JointModel& m) { return m.ok ? m.rss : std::numeric_limits<double>::infinity(); }
 
-// Input lag: RSS(lambda) on a 0.05 grid, then a golden-section refinement within +-0.1 of the best grid point.
-// The border tables get points between the abscissas: the lag moves the operator's input between the levels,
-// where a real border is curved and a linear interpolation biases lambda. The grid uses a few points per
-// interval (options.lag_search_segments: cheap, enough to find the neighbourhood); the refinement and the model
-// kept use more (options.lag_border_segments), held smooth by a prior where the data are thin.
-JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
-                            const DiagnosisOptions& options, std::optional<double> lambda_near) {
-  ModelStructure s = current.structure;
-  s.border_smoothness = options.lag_border_smoothness;
-  const auto fit = [&](double lambda, int segments) {
-    s.input_lag = lambda;
-    s.border_segments = segments;
-    return fit_joint_model(config, data, s, &current, true);
-  };
-  double lo = 0.05, hi = options.max_input_lag;
-  if (lambda_near) {
-    lo = std::max(lo, *lambda_near - 0.1);
-    hi = std::min(hi, *lambda_near + 0.1);
-  }
-  double best_rss = std::numeric_limits<double>::infinity();
-  double best_lambda = 0;
-  for (double lambda = lo; lambda <= hi + 1e-9; lambda += 0.05) {
-    const JointModel m = fit(lambda, options.lag_search_segments);
-    if (m.ok && m.rss < best_rss) {
-      best_rss = m.rss;
-      best_lambda = lambda;
-    }
-  }
-  if (best_lambda == 0) return current;
-  JointModel best = fit(best_lambda, options.lag_border_segments);
-  double a = std::max(best_lambda - 0.1, 0.0), b = std::min(best_lambda + 0.1, options.max_input_lag);
+// Golden-section search of lambda in [a, b] at a given border resolution; returns the best fit seen (or `best`).
+template <class Fit>
+JointModel golden_lambda(Fit fit, double a, double b, int iterations, JointModel best) {
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  for (int it = 0; it < options.golden_iterations; ++it) {
+  for (int it = 0; it < iterations; ++it) {
     const double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    JointModel m1 = fit(x1, options.lag_border_segments), m2 = fit(x2, options.lag_border_segments);
+    JointModel m1 = fit(x1), m2 = fit(x2);
     const double r1 = rss_or_infinity(m1), r2 = rss_or_infinity(m2);
     if (r1 < r2) {
       b = x2;
@@ -70,7 +42,56 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
       if (r2 < rss_or_infinity(best)) best = std::move(m2);
     }
   }
-  return best.ok ? best : current;
+  return best;
+}
+
+// Input lag: RSS(lambda) on a 0.05 grid with the experiment's abscissas only, then two refinements: with borders
+// linear between the abscissas (+-0.05 around the best grid point), and with points between them
+// (options.lag_border_segments per interval, held smooth by a prior where the data are thin; +-0.15, since a
+// curved border biases the coarse grid). The lag moves the operator's input between the levels, so lambda can
+// only be estimated with a border model that is right there; but a flexible border also absorbs part of lambda's
+// effect, so the finer model is kept only if it earns its extra parameters (BIC): on borders linear between the
+// levels the coarse one is exact and pins lambda far better.
+JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            const DiagnosisOptions& options, std::optional<double> lambda_near) {
+  const auto fit_with = [&](int segments) {
+    return [&, segments](double lambda) {
+      ModelStructure s = current.structure;
+      s.border_smoothness = options.lag_border_smoothness;
+      s.input_lag = lambda;
+      s.border_segments = segments;
+      return fit_joint_model(config, data, s, &current, true);
+    };
+  };
+  const auto coarse = fit_with(1);
+  const auto fine = fit_with(options.lag_border_segments);
+  double lo = 0.05, hi = options.max_input_lag;
+  if (lambda_near) {
+    lo = std::max(lo, *lambda_near - 0.15);
+    hi = std::min(hi, *lambda_near + 0.15);
+  }
+  JointModel best_coarse;
+  double grid_lambda = 0;
+  for (double lambda = lo; lambda <= hi + 1e-9; lambda += 0.05) {
+    JointModel m = coarse(lambda);
+    if (m.ok && m.rss < rss_or_infinity(best_coarse)) {
+      best_coarse = std::move(m);
+      grid_lambda = lambda;
+    }
+  }
+  if (!best_coarse.ok) return current;
+  const double max_lag = options.max_input_lag;
+  best_coarse = golden_lambda(coarse, std::max(grid_lambda - 0.05, 0.0), std::min(grid_lambda + 0.05, max_lag),
+                              options.golden_iterations, std::move(best_coarse));
+  if (options.lag_border_segments <= 1) return best_coarse;
+  const JointModel best_fine = golden_lambda(fine, std::max(grid_lambda - 0.15, 0.0),
+                                             std::min(grid_lambda + 0.15, max_lag), options.golden_iterations,
+                                             JointModel{});
+  if (!best_fine.ok) return best_coarse;
+  const double samples = static_cast<double>(best_coarse.rows);
+  const double gain = samples * std::log(best_coarse.rss / best_fine.rss);
+  const double cost = static_cast<double>(best_fine.parameters - best_coarse.parameters) * std::log(samples);
+  return gain > cost ? best_fine : best_coarse;
 }
 
 JointModel search_dead_time(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,

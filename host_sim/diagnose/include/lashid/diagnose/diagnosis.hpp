@@ -95,8 +95,7 @@ struct DiagnosisOptions {
   double coloured_p = 1e-4;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
-  int lag_search_segments = 3;     ///< border segments per interval between the levels in the lambda grid search
-  int lag_border_segments = 10;    ///< and in the refinement and the input-lag model kept
+  int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
