@@ -4,7 +4,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <span>
@@ -131,12 +130,7 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
   } else {
     for (Cause cause : kAllCauses) rows_hidden.push_back({cause});
   }
-  DiagnosisOptions tuning;  // TEMPORARY tuning hook
-  if (const char* e = std::getenv("TUNE_SEGMENTS")) tuning.lag_border_segments = std::atoi(e);
-  if (const char* e = std::getenv("TUNE_SMOOTH")) tuning.lag_border_smoothness = std::atof(e);
-  if (const char* e = std::getenv("TUNE_MINGAIN")) tuning.min_val_gain = std::atof(e);
-  if (const char* e = std::getenv("TUNE_EXPLAIN")) tuning.explaining_val_gain = std::atof(e);
-  if (const char* e = std::getenv("TUNE_COLOURED")) tuning.coloured_p = std::atof(e);
+  const DiagnosisOptions defaults;
   std::vector<Row> rows;
   nlohmann::json cases = nlohmann::json::array();
   double diagnosis_seconds = 0, slowest = 0;
@@ -147,12 +141,12 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
       const std::uint64_t seed = args.first_seed + static_cast<std::uint64_t>(k);
       const HiddenEffectCase c = generate_hidden_effect_case(hidden, seed, options);
       const auto start = std::chrono::steady_clock::now();
-      const Diagnosis d = diagnose(c.config, c.recording, fmt::format("{}#{}", row.hidden, seed), tuning);
+      const Diagnosis d = diagnose(c.config, c.recording, fmt::format("{}#{}", row.hidden, seed), defaults);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       diagnosis_seconds += seconds;
       slowest = std::max(slowest, seconds);
       const double fit_plant = stats::fit_percent(d.val_measured, c.val_true_output);
-      const double fit_true = true_structure_fit(c, tuning);
+      const double fit_true = true_structure_fit(c, defaults);
       const Score s = score(c, d, fit_true, fit_plant);
       const std::string found = names(d.causes);
       ++row.found[found];

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 
 
@@ -461,7 +462,10 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   };
   const bool from_initial = initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash;
   auto [model, phi] = fit_from(from_initial && only_from_initial ? initial : nullptr);
-  if (from_initial && !only_from_initial) {
+  if (from_initial && only_from_initial && !model.ok) {
+    // The one start failed (e.g. its regimes leave a border point the fit needs unexcited): try the other.
+    std::tie(model, phi) = fit_from(nullptr);
+  } else if (from_initial && !only_from_initial) {
     auto [other, other_phi] = fit_from(initial);
     if (other.ok && (!model.ok || other.rss < model.rss)) {
       model = std::move(other);

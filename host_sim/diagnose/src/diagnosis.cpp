@@ -171,7 +171,9 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     round = std::move(next);
   }
   refine_input_lag(d, current, config, data, options);
-  if (current.identification.whiteness.p_value < options.coloured_p) {
+  const ResidualAnalysis& left = current.identification;
+  const double correlation = left.samples > 0 ? left.whiteness.statistic / static_cast<double>(left.samples) : 0.0;
+  if (!white(left, options) && correlation >= options.coloured_correlation) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
     // simulates val at least as well (an IV fit of a large structure can be unstable).

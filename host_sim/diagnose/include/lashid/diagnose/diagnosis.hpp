@@ -90,9 +90,10 @@ struct DiagnosisOptions {
   double explaining_val_gain = 5.0;
   /// The val check: a structural extension is accepted only if it raises the val fit by more than this many points.
   double min_val_gain = 0.5;
-  /// colored_noise needs identification residuals non-white at this Ljung-Box p-value (after the structural causes:
-  /// a structure's own small mismatch, e.g. curved borders, leaves mildly coloured residuals, sensor noise does not).
-  double coloured_p = 1e-4;
+  /// colored_noise also needs the identification residuals' squared autocorrelations (lags 1..20, i.e. Ljung-Box
+  /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
+  /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
+  double coloured_correlation = 0.02;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
