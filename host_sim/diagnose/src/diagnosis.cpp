@@ -82,7 +82,8 @@ bool operator_accepted(const CandidateCause& c, const CurrentModel& current, con
 }
 
 // An input lag found before another cause was fitted without it (a drift, say, biases lambda): once the selection
-// is done, lambda is searched again with every other cause in the model, and the refit kept if it fits better.
+// is done, lambda is searched again with every other cause in the model, and the refit kept if it fits better
+// (its val gain is counted in the last step's).
 void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config, const FlatRecording& data,
                       const DiagnosisOptions& options) {
   const auto lag = std::find_if(d.added.begin(), d.added.end(),
@@ -98,6 +99,9 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   current.model = refit.model;
   current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
   current.identification = residuals(current.model, data, false);
+  // The last step's gain now includes the re-searched lambda, so that the steps still add up to the total gain.
+  d.added.back().fit_after = current.fit;
+  d.added.back().ljung_box_after = current.identification.whiteness.statistic;
 }
 
 // Forward selection. Each round adds, among the supported structural candidates (the causes significant in the
