@@ -1,7 +1,6 @@
 // End-to-end tests of the `lashid` executable (LASHID_EXE, set by tests/CMakeLists.txt): the real program
 // is run through the shell with stdout and stderr captured, so argument parsing, exit codes, the files
 // written and the error messages a user sees are all covered, not just the library behind them.
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -317,45 +316,6 @@ TEST_F(Cli, DiagnoseFindsAHiddenDeadTimeAndWritesTheJson) {
   }
   EXPECT_GT(j.at("fit_extended").get<double>(), j.at("fit_nominal").get<double>());
   EXPECT_TRUE(j.at("models").contains("nominal") && j.at("models").contains("extended"));
-}
-
-// Two effects hidden at once on curved borders: the JSON names both (strongest first in "causes", "cause" the
-// first), gives both parameters, and one gain per cause added; a recording without effect gives ["none"].
-TEST_F(Cli, DiagnoseNamesTwoHiddenCausesAndTheGainOfEach) {
-  const std::string csv = (work_ / "pair.csv").string(), cfg = (work_ / "pair.json").string();
-  const std::string out = (work_ / "diag.json").string();
-  const Outcome gen = run({"hidden-effect", "--cause", "sensor_drift+colored_noise", "--borders", "curved", "--seed",
-                           "11", "--out", csv, "--config-out", cfg});
-  ASSERT_EQ(gen.exit_code, 0) << gen;
-  const Outcome r = run({"diagnose", "--config", cfg, "--data", csv, "--json", out});
-  ASSERT_EQ(r.exit_code, 0) << r;
-  const json j = json::parse(slurp(out));
-  std::vector<std::string> causes = j.at("causes").get<std::vector<std::string>>();
-  ASSERT_FALSE(causes.empty());
-  EXPECT_EQ(j.at("cause"), causes.front());
-  std::sort(causes.begin(), causes.end());
-  EXPECT_EQ(causes, (std::vector<std::string>{"colored_noise", "sensor_drift"})) << j.at("causes");
-  EXPECT_TRUE(j.at("parameters").contains("drift_total")) << j.at("parameters");
-  ASSERT_EQ(j.at("gain_per_cause").size(), 2U);
-  // Each step starts where the previous one ended, from the nominal fit to the extended one.
-  double fit = j.at("fit_nominal").get<double>();
-  for (const json& step : j.at("gain_per_cause")) {
-    EXPECT_DOUBLE_EQ(step.at("fit_before").get<double>(), fit);
-    fit = step.at("fit_after").get<double>();
-  }
-  EXPECT_DOUBLE_EQ(fit, j.at("fit_extended").get<double>());
-
-  const Outcome none = run({"hidden-effect", "--cause", "none", "--borders", "curved", "--seed", "11", "--out", csv,
-                            "--config-out", cfg});
-  ASSERT_EQ(none.exit_code, 0) << none;
-  ASSERT_EQ(run({"diagnose", "--config", cfg, "--data", csv, "--json", out}).exit_code, 0);
-  const json k = json::parse(slurp(out));
-  EXPECT_EQ(k.at("causes"), json::array({"none"}));
-  EXPECT_EQ(k.at("cause"), "none");
-  EXPECT_TRUE(k.at("gain_per_cause").empty());
-  EXPECT_NE(run({"hidden-effect", "--cause", "dead_time+drift", "--seed", "1", "--out", csv, "--config-out", cfg})
-                .exit_code,
-            0);
 }
 
 TEST_F(CliBadInput, DiagnoseNamesTheMissingPhaseAndWritesNothing) {
