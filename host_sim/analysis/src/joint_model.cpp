@@ -121,19 +121,19 @@ NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& 
 
 // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
 // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
-// interpolation afterwards (their value does not affect this data, only the simulation elsewhere). Points between
-// the abscissas (p >= first_smoothed) exist only with the smoothness prior, which then determines every point the
-// data do not reach.
+// interpolation afterwards (their value does not affect this data, only the simulation elsewhere). With the
+// smoothness prior (ModelStructure::border_smoothness > 0, the default) no point is left out: the prior determines
+// every point the data do not reach.
 struct ExcitedColumns {
   std::vector<bool> excited;        ///< per border parameter p
   std::vector<Eigen::Index> keep;   ///< the regression columns kept
 };
 
-ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int cols, int first_smoothed) {
+ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int cols, bool smoothed) {
   ExcitedColumns e;
   e.excited.assign(static_cast<std::size_t>(P), false);
-  // With a smoothness prior (points between the abscissas), every point is determined: by the data or the prior.
-  if (first_smoothed < P) e.excited.assign(static_cast<std::size_t>(P), true);
+  // With the smoothness prior, every point is determined: by the data or the prior.
+  if (smoothed) e.excited.assign(static_cast<std::size_t>(P), true);
   const auto is_basis = [&](Eigen::Index k) { return k >= n && k < n + n * P; };
   for (Eigen::Index k = 0; k < cols; ++k) {
     if (is_basis(k) && energy(k) > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
@@ -144,6 +144,13 @@ ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int 
   return e;
 }
 
+// A border point whose hat weights, squared and summed over the identification rows, stay below this (a handful
+// of samples' worth) is left to the smoothness prior: estimated from the data alone, such a point takes whatever
+// value the noise gives it, and a simulation that goes there (val's reversals, a backlash behind an input lag)
+// follows it (a backlash behind an input lag of exactly the plant's lambda reaches some points for a sample or
+// two: its val simulation swung between -20 % and 96 % before this).
+constexpr double kDeterminedEnergy = 5.0;
+
 // The smoothness prior as extra rows (zero targets), added to the normal equations: per point between the
 // abscissas and per b_i, sqrt(weight) (b_i c_centre - interpolation of b_i c_left, b_i c_right). `weight` counts in
 // samples: a point reached by many samples follows the data, one reached by few stays near the line through its
@@ -151,7 +158,7 @@ ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int 
 void add_smoothness_prior(const Layout& layout, int n, int P, double weight, NormalEquations& ne) {
   if (layout.stencils.empty() || !(weight > 0)) return;
   for (const SmoothnessStencil& st : layout.stencils) {
-    if (st.centre < layout.level_parameters && ne.energy(n + st.centre) > 0) continue;
+    if (st.centre < layout.level_parameters && ne.energy(n + st.centre) >= kDeterminedEnergy) continue;
     for (int i = 0; i < n; ++i) {
       std::vector<Entry> row{{n + i * P + st.centre, 1.0}};
       if (st.left >= 0) row.push_back({n + i * P + st.left, -st.left_weight});
@@ -235,7 +242,8 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     return model;
   }
   NormalEquations ne = normal_equations(g, data, structure, phi, instruments_y);
-  const ExcitedColumns columns = excited_columns(ne.energy, n, P, cols, layout.level_parameters);
+  const bool smoothed = !layout.stencils.empty() && structure.border_smoothness > 0;
+  const ExcitedColumns columns = excited_columns(ne.energy, n, P, cols, smoothed);
   add_smoothness_prior(layout, n, P, structure.border_smoothness, ne);
   const auto& keep = columns.keep;
   model.parameters = static_cast<int>(keep.size());
@@ -267,7 +275,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   Eigen::VectorXd c = svd.matrixV().col(0);
   Eigen::VectorXd b = s(0) * svd.matrixU().col(0);
   model.rank_one_ratio = s.size() > 1 && s(0) > 0 ? s(1) / s(0) : 0.0;
-  if (!columns.excited[0] || !(std::abs(c(0)) > 1e-9 * c.norm())) {
+  if (!(ne.energy(n) > 0) || !(std::abs(c(0)) > 1e-9 * c.norm())) {
     model.failure = "degenerate borders: the estimated u_m equals u_M";
     return model;
   }

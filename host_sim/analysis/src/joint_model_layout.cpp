@@ -77,9 +77,9 @@ Layout make_layout(const ExperimentConfig& c, int segments) {
   if (segments > 1) {
     subdivide(l.descending, segments, l.parameters);
     subdivide(l.ascending, segments, l.parameters);
-    add_stencils(l.descending, l.stencils);
-    add_stencils(l.ascending, l.stencils);
   }
+  add_stencils(l.descending, l.stencils);
+  add_stencils(l.ascending, l.stencils);
   return l;
 }
 
