@@ -5,9 +5,12 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lashid/io/config.hpp"
+#include "lashid/plant/effect.hpp"
+#include "lashid/sim/hidden_effect.hpp"
 
 namespace lashid::app {
 
@@ -83,16 +86,23 @@ struct DiagnoseArgs {
 int run_diagnose(const DiagnoseArgs& args);
 
 struct HiddenEffectArgs {
-  std::string cause;
+  std::string cause;  // one cause, or two joined by '+' (input_lag+sensor_drift)
   std::uint64_t seed = 1;
+  std::string borders = "linear";  // "linear" or "curved" between the levels
   std::string data_out;
   std::string config_out;
 };
 int run_hidden_effect(const HiddenEffectArgs& args);
+/// "input_lag+sensor_drift" -> {input_lag, sensor_drift}; throws std::invalid_argument naming an unknown cause.
+std::vector<sim::Cause> parse_cause_list(std::string_view text);
+/// "linear" or "curved"; throws std::invalid_argument otherwise.
+sim::BorderShape parse_border_shape(std::string_view text);
 
 struct DiagnoseSweepArgs {
   int seeds = 20;
   std::uint64_t first_seed = 1000;
+  std::string borders = "linear";  // "linear" or "curved" between the levels
+  bool pairs = false;              // the pairs of causes of issue 12 instead of one cause per recording
   std::string json_out;
   bool verbose = false;
 };

@@ -178,9 +178,12 @@ CLI::App* add_diagnose(CLI::App& app, DiagnoseArgs& args) {
 
 CLI::App* add_hidden_effect(CLI::App& app, HiddenEffectArgs& args) {
   auto* cmd = app.add_subcommand("hidden-effect", "Generate a random plant's recording with a hidden effect");
-  cmd->add_option("--cause", args.cause, "none, input_lag, dead_time, sensor_drift, colored_noise, operator_type")
-      ->required()
-      ->check(CLI::IsMember({"none", "input_lag", "dead_time", "sensor_drift", "colored_noise", "operator_type"}));
+  cmd->add_option("--cause", args.cause,
+                  "none, input_lag, dead_time, sensor_drift, colored_noise, operator_type, or two joined by '+'")
+      ->required();
+  cmd->add_option("--borders", args.borders, "Borders between the levels: linear or curved")
+      ->check(CLI::IsMember({"linear", "curved"}))
+      ->capture_default_str();
   cmd->add_option("--seed", args.seed, "Seed of the plant, the effect's size and the noise")
       ->check(kNonNegativeSeed)
       ->capture_default_str();
@@ -195,8 +198,12 @@ CLI::App* add_diagnose_sweep(CLI::App& app, DiagnoseSweepArgs& args) {
   cmd->add_option("--seeds", args.seeds, "Recordings per cause")->check(CLI::Range(1, 10000))
       ->capture_default_str();
   cmd->add_option("--first-seed", args.first_seed, "First seed")->check(kNonNegativeSeed)->capture_default_str();
+  cmd->add_option("--borders", args.borders, "Borders between the levels: linear or curved")
+      ->check(CLI::IsMember({"linear", "curved"}))
+      ->capture_default_str();
+  cmd->add_flag("--pairs", args.pairs, "Hide two causes at once (the pairs of docs/diagnose.md)");
   cmd->add_option("--json", args.json_out, "Write the matrix and every case as JSON");
-  cmd->add_flag("--verbose", args.verbose, "Print every miss");
+  cmd->add_flag("--verbose", args.verbose, "Print every case");
   return cmd;
 }
 

@@ -1,11 +1,13 @@
 #include "lashid/analysis/joint_model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 
 
@@ -14,143 +16,127 @@
 
 #include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
+#include "joint_model_layout.hpp"
 #include "model_operator.hpp"
 
 namespace lashid::sim {
 
-using detail::make_model_operator;
+using detail::Basis;
+using detail::BorderLayout;
+using detail::HatRow;
+using detail::Layout;
+using detail::make_layout;
+using detail::operator_basis;
+using detail::SmoothnessStencil;
 using detail::tau;
 
 namespace {
 
-// Node abscissas of one border and, per node, the index of its value in c (-1: the reference u~ = 0 at v_max).
-struct BorderLayout {
-  std::vector<double> x;
-  std::vector<int> param;
-};
-
-// phi(t) per row; row-major so that a row is contiguous (filled through Ref<RowVectorXd>).
-using Basis = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-struct Layout {
-  BorderLayout ascending, descending;
-  int parameters = 0;  // 2m - 1
-};
-
-Layout make_layout(const ExperimentConfig& c) {
-  if (c.V_d.size() != static_cast<std::size_t>(c.m) || c.V_a.size() != static_cast<std::size_t>(c.m)) {
-    throw std::invalid_argument("the joint model needs both schemes: V_d and V_a with m points each");
-  }
-  const int m = c.m;
-  Layout l;
-  for (int j = 0; j < m; ++j) {
-    l.descending.x.push_back(c.V_d[static_cast<std::size_t>(j)]);
-    l.descending.param.push_back(j);
-  }
-  l.descending.x.push_back(c.v_max);
-  l.descending.param.push_back(-1);
-  l.ascending.x.push_back(c.v_min);
-  l.ascending.param.push_back(0);  // C_a(v_min) = C_d(v_min) = u_m
-  for (int j = m - 1; j >= 0; --j) {
-    l.ascending.x.push_back(c.V_a[static_cast<std::size_t>(j)]);
-    l.ascending.param.push_back(j == 0 ? -1 : m - 1 + j);
-  }
-  l.parameters = 2 * m - 1;
-  return l;
-}
-
-// Adds the hat-function weights of w on `border` to phi (w outside the nodes is clamped, as Border does).
-void add_hat(const BorderLayout& border, double w, Eigen::Ref<Eigen::RowVectorXd> phi) {
-  const auto& x = border.x;
-  w = std::clamp(w, x.front(), x.back());
-  auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), w) - x.begin());
-  k = std::clamp<std::size_t>(k, 1, x.size() - 1) - 1;
-  const double s = (w - x[k]) / (x[k + 1] - x[k]);
-  if (border.param[k] >= 0) phi(border.param[k]) += 1.0 - s;
-  if (border.param[k + 1] >= 0) phi(border.param[k + 1]) += s;
-}
-
-// phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
-// The switch's regime depends on the direction of w only; the backlash's also on the borders, taken from
-// `current` (the previous fit) when given, otherwise the switch's regimes are used as the first guess.
-Basis operator_basis(const Layout& layout, const std::vector<double>& w, OperatorKind op,
-                               const JointModel* current) {
-  const std::size_t T = w.size();
-  Basis phi = Basis::Zero(static_cast<Eigen::Index>(T), layout.parameters);
-  std::unique_ptr<HysteresisOperator> model_op;
-  if (op == OperatorKind::kBacklash && current != nullptr) model_op = make_model_operator(*current, w[0]);
-  double u_prev = model_op ? model_op->step(w[0]) : 0.0;
-  add_hat(layout.descending, w[0], phi.row(0));
-  for (std::size_t t = 1; t < T; ++t) {
-    const auto row = static_cast<Eigen::Index>(t);
-    bool hold = w[t] == w[t - 1];
-    if (model_op) {
-      const double u = model_op->step(w[t]);
-      hold = hold || u == u_prev;
-      u_prev = u;
-    }
-    if (hold) {
-      phi.row(row) = phi.row(row - 1);
-    } else {
-      add_hat(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t], phi.row(row));
-    }
-  }
-  return phi;
-}
-
 // The stacked regression (3.19) over the identification rows t >= n: columns a_1..a_n, the n x P products
-// b_i c_p, the offset kappa0 and, with drift, kappa1. Z holds the instruments when an IV fit is asked for.
-struct Regression {
-  std::vector<std::size_t> rows;
-  Eigen::MatrixXd X, Z;
-  Eigen::VectorXd Y;
-  int cols = 0;
+// b_i c_p, the offset kappa0 and, with drift, kappa1. A row has at most 3n + 2 non-zero entries; `visit` hands
+// them to `f(t, entries, y(t))`, with the instruments' y lags instead of the outputs' when `instruments_y` is given.
+struct Entry {
+  Eigen::Index column;
+  double value;
 };
 
-Regression build_regression(int n, int P, const FlatRecording& data, const ModelStructure& structure,
-                            const Basis& phi, const std::vector<double>* instruments_y) {
-  Regression g;
-  const std::size_t T = data.size();
+struct RegressionShape {
+  int n = 0, P = 0, cols = 0;
+  std::vector<std::size_t> rows;
+};
+
+RegressionShape regression_shape(int n, int P, const FlatRecording& data, const ModelStructure& structure) {
+  RegressionShape g;
+  g.n = n;
+  g.P = P;
   g.cols = n + n * P + 1 + (structure.drift ? 1 : 0);
-  for (std::size_t t = static_cast<std::size_t>(n); t < T; ++t) {
+  for (std::size_t t = static_cast<std::size_t>(n); t < data.size(); ++t) {
     if (data.is_identification(t)) g.rows.push_back(t);
-  }
-  if (g.rows.size() <= static_cast<std::size_t>(g.cols)) return g;
-  const auto R = static_cast<Eigen::Index>(g.rows.size());
-  g.X.resize(R, g.cols);
-  g.Y.resize(R);
-  if (instruments_y != nullptr) g.Z.resize(R, g.cols);
-  for (Eigen::Index r = 0; r < R; ++r) {
-    const std::size_t t = g.rows[static_cast<std::size_t>(r)];
-    g.Y(r) = data.y[t];
-    for (int i = 1; i <= n; ++i) {
-      g.X(r, i - 1) = -data.y[t - static_cast<std::size_t>(i)];
-      g.X.block(r, n + (i - 1) * P, 1, P) = phi.row(static_cast<Eigen::Index>(t) - i);
-    }
-    g.X(r, n + n * P) = 1.0;
-    if (structure.drift) g.X(r, n + n * P + 1) = tau(t, T);
-    if (instruments_y != nullptr) {
-      g.Z.row(r) = g.X.row(r);
-      for (int i = 1; i <= n; ++i) g.Z(r, i - 1) = -(*instruments_y)[t - static_cast<std::size_t>(i)];
-    }
   }
   return g;
 }
 
+template <class F>
+void visit_rows(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                const Basis& phi, const std::vector<double>* lagged, F f) {
+  const std::vector<double>& y_lags = lagged != nullptr ? *lagged : data.y;
+  std::vector<Entry> entries;
+  for (std::size_t t : g.rows) {
+    entries.clear();
+    for (int i = 1; i <= g.n; ++i) {
+      const std::size_t lag = t - static_cast<std::size_t>(i);
+      entries.push_back({i - 1, -y_lags[lag]});
+      const HatRow& h = phi[lag];
+      for (int k = 0; k < 2; ++k) {
+        if (h.param[static_cast<std::size_t>(k)] >= 0) {
+          entries.push_back({g.n + (i - 1) * g.P + h.param[static_cast<std::size_t>(k)], h.weight[static_cast<std::size_t>(k)]});
+        }
+      }
+    }
+    entries.push_back({g.n + g.n * g.P, 1.0});
+    if (structure.drift) entries.push_back({g.n + g.n * g.P + 1, tau(t, data.size())});
+    f(t, entries, data.y[t]);
+  }
+}
+
+// The normal equations Z'X theta = Z'Y (Z = X for least squares) and the columns' energies on the data rows.
+struct NormalEquations {
+  Eigen::MatrixXd zx;
+  Eigen::VectorXd zy, energy;
+};
+
+NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                                 const Basis& phi, const std::vector<double>* instruments_y) {
+  NormalEquations ne;
+  ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
+  ne.zy = Eigen::VectorXd::Zero(g.cols);
+  ne.energy = Eigen::VectorXd::Zero(g.cols);
+  if (instruments_y == nullptr) {
+    visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
+      for (const Entry& a : x) {
+        ne.zy(a.column) += a.value * y;
+        for (const Entry& b : x) ne.zx(a.column, b.column) += a.value * b.value;
+      }
+    });
+    ne.energy = ne.zx.diagonal();
+    return ne;
+  }
+  // Instruments: the same row with the instruments' lags in the a_i columns (the first n entries of each lag group
+  // are the y lags, in the same order in both visits).
+  std::vector<std::vector<Entry>> z_rows;
+  z_rows.reserve(g.rows.size());
+  visit_rows(g, data, structure, phi, instruments_y,
+             [&](std::size_t, const std::vector<Entry>& z, double) { z_rows.push_back(z); });
+  std::size_t r = 0;
+  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
+    const std::vector<Entry>& z = z_rows[r++];
+    for (const Entry& a : z) {
+      ne.zy(a.column) += a.value * y;
+      for (const Entry& b : x) ne.zx(a.column, b.column) += a.value * b.value;
+    }
+    for (const Entry& b : x) ne.energy(b.column) += b.value * b.value;
+  });
+  return ne;
+}
+
 // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
 // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by
-// interpolation afterwards (their value does not affect this data, only the simulation elsewhere).
+// interpolation afterwards (their value does not affect this data, only the simulation elsewhere). With the
+// smoothness prior (ModelStructure::border_smoothness > 0, the default) no point is left out: the prior determines
+// every point the data do not reach.
 struct ExcitedColumns {
   std::vector<bool> excited;        ///< per border parameter p
   std::vector<Eigen::Index> keep;   ///< the regression columns kept
 };
 
-ExcitedColumns excited_columns(const Eigen::MatrixXd& X, int n, int P, int cols) {
+ExcitedColumns excited_columns(const Eigen::VectorXd& energy, int n, int P, int cols, bool smoothed) {
   ExcitedColumns e;
   e.excited.assign(static_cast<std::size_t>(P), false);
+  // With the smoothness prior, every point is determined: by the data or the prior.
+  if (smoothed) e.excited.assign(static_cast<std::size_t>(P), true);
   const auto is_basis = [&](Eigen::Index k) { return k >= n && k < n + n * P; };
   for (Eigen::Index k = 0; k < cols; ++k) {
-    if (is_basis(k) && X.col(k).squaredNorm() > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
+    if (is_basis(k) && energy(k) > 0) e.excited[static_cast<std::size_t>((k - n) % P)] = true;
   }
   for (Eigen::Index k = 0; k < cols; ++k) {
     if (!is_basis(k) || e.excited[static_cast<std::size_t>((k - n) % P)]) e.keep.push_back(k);
@@ -158,26 +144,59 @@ ExcitedColumns excited_columns(const Eigen::MatrixXd& X, int n, int P, int cols)
   return e;
 }
 
-// Least squares (column-pivoted QR), or instrumental variables when Z is given. Empty on failure, with `failure`.
-std::optional<Eigen::VectorXd> solve_regression(const Eigen::MatrixXd& X, const Eigen::VectorXd& Y,
-                                                const Eigen::MatrixXd* Z, std::string& failure) {
-  const auto kept = static_cast<int>(X.cols());
-  if (Z == nullptr) {
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
-    if (qr.rank() < kept) {
+// A border point whose hat weights, squared and summed over the identification rows, stay below this (a handful
+// of samples' worth) is left to the smoothness prior: estimated from the data alone, such a point takes whatever
+// value the noise gives it, and a simulation that goes there (val's reversals, a backlash behind an input lag)
+// follows it (a backlash behind an input lag of exactly the plant's lambda reaches some points for a sample or
+// two: its val simulation swung between -20 % and 96 % before this).
+constexpr double kDeterminedEnergy = 5.0;
+
+// The smoothness prior as extra rows (zero targets), added to the normal equations: per point between the
+// abscissas and per b_i, sqrt(weight) (b_i c_centre - interpolation of b_i c_left, b_i c_right). `weight` counts in
+// samples: a point reached by many samples follows the data, one reached by few stays near the line through its
+// neighbours. The instruments of these rows are the rows themselves.
+void add_smoothness_prior(const Layout& layout, int n, int P, double weight, NormalEquations& ne) {
+  if (layout.stencils.empty() || !(weight > 0)) return;
+  for (const SmoothnessStencil& st : layout.stencils) {
+    if (st.centre < layout.level_parameters && ne.energy(n + st.centre) >= kDeterminedEnergy) continue;
+    for (int i = 0; i < n; ++i) {
+      std::vector<Entry> row{{n + i * P + st.centre, 1.0}};
+      if (st.left >= 0) row.push_back({n + i * P + st.left, -st.left_weight});
+      if (st.right >= 0) row.push_back({n + i * P + st.right, -st.right_weight});
+      for (const Entry& a : row) {
+        for (const Entry& b : row) ne.zx(a.column, b.column) += weight * a.value * b.value;
+      }
+    }
+  }
+}
+
+// Least squares (symmetric normal equations, columns scaled to unit norm, pivoted LDL' for the rank), or
+// instrumental variables. Empty on failure, with `failure`.
+std::optional<Eigen::VectorXd> solve_normal_equations(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy,
+                                                      bool instrumental, std::string& failure) {
+  const auto kept = static_cast<int>(zx.cols());
+  if (!instrumental) {
+    // Pivoted LDL' of the scaled (unit-diagonal) matrix: a pivot below 1e-12 means a column is a combination of
+    // the others (in X's terms, a singular value below 1e-6 of the largest).
+    const Eigen::VectorXd scale = zx.diagonal().cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd scaled = scale.asDiagonal() * zx * scale.asDiagonal();
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(scaled);
+    const Eigen::VectorXd pivots = ldlt.vectorD();
+    const auto independent = static_cast<int>((pivots.array() > 1e-12).count());
+    if (ldlt.info() != Eigen::Success || independent < kept) {
       failure = fmt::format("the regression is rank deficient ({} of {} columns independent): "
                             "the experiments do not excite every border point",
-                            qr.rank(), kept);
+                            independent, kept);
       return std::nullopt;
     }
-    return Eigen::VectorXd(qr.solve(Y));
+    return Eigen::VectorXd(scale.asDiagonal() * ldlt.solve(Eigen::VectorXd(scale.asDiagonal() * zy)));
   }
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Z->transpose() * X);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(zx);
   if (!lu.isInvertible()) {
     failure = "the instrumental-variable system is singular";
     return std::nullopt;
   }
-  return Eigen::VectorXd(lu.solve(Z->transpose() * Y));
+  return Eigen::VectorXd(lu.solve(zy));
 }
 
 // The border values at the layout's abscissas from the factor c; unexcited points by linear interpolation between
@@ -209,7 +228,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
                           const std::vector<double>* instruments_y) {
   const int n = config.n;
   const int P = layout.parameters;
-  Regression g = build_regression(n, P, data, structure, phi, instruments_y);
+  const RegressionShape g = regression_shape(n, P, data, structure);
   const int cols = g.cols;
   JointModel model;
   model.structure = structure;
@@ -222,22 +241,28 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     model.failure = fmt::format("{} identification rows for {} parameters", g.rows.size(), cols);
     return model;
   }
-  const ExcitedColumns columns = excited_columns(g.X, n, P, cols);
-  if (static_cast<Eigen::Index>(columns.keep.size()) < cols) {
-    g.X = g.X(Eigen::all, columns.keep).eval();
-    if (instruments_y != nullptr) g.Z = g.Z(Eigen::all, columns.keep).eval();
-    model.parameters = static_cast<int>(columns.keep.size());
-  }
-  const std::optional<Eigen::VectorXd> reduced =
-      solve_regression(g.X, g.Y, instruments_y != nullptr ? &g.Z : nullptr, model.failure);
+  NormalEquations ne = normal_equations(g, data, structure, phi, instruments_y);
+  const bool smoothed = !layout.stencils.empty() && structure.border_smoothness > 0;
+  const ExcitedColumns columns = excited_columns(ne.energy, n, P, cols, smoothed);
+  add_smoothness_prior(layout, n, P, structure.border_smoothness, ne);
+  const auto& keep = columns.keep;
+  model.parameters = static_cast<int>(keep.size());
+  const Eigen::MatrixXd zx = ne.zx(keep, keep);
+  const Eigen::VectorXd zy = ne.zy(keep);
+  const std::optional<Eigen::VectorXd> reduced = solve_normal_equations(zx, zy, instruments_y != nullptr,
+                                                                        model.failure);
   if (!reduced) return model;
-  const Eigen::VectorXd residuals = g.Y - g.X * *reduced;
-  model.rss = residuals.squaredNorm();
-  model.residuals.assign(residuals.data(), residuals.data() + residuals.size());
-  model.residual_t = g.rows;
-  model.residual_variance = model.rss / static_cast<double>(g.Y.size() - g.X.cols());
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
-  for (std::size_t i = 0; i < columns.keep.size(); ++i) theta(columns.keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
+  model.residuals.reserve(g.rows.size());
+  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
+    double fitted = 0;
+    for (const Entry& e : x) fitted += e.value * theta(e.column);
+    model.residuals.push_back(y - fitted);
+    model.rss += (y - fitted) * (y - fitted);
+  });
+  model.residual_t = g.rows;
+  model.residual_variance = model.rss / static_cast<double>(g.rows.size() - keep.size());
   model.a.assign(theta.data(), theta.data() + n);
   Eigen::MatrixXd products(n, P);
   for (int i = 0; i < n; ++i) products.row(i) = theta.segment(n + i * P, P).transpose();
@@ -250,7 +275,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   Eigen::VectorXd c = svd.matrixV().col(0);
   Eigen::VectorXd b = s(0) * svd.matrixU().col(0);
   model.rank_one_ratio = s.size() > 1 && s(0) > 0 ? s(1) / s(0) : 0.0;
-  if (!columns.excited[0] || !(std::abs(c(0)) > 1e-9 * c.norm())) {
+  if (!(ne.energy(n) > 0) || !(std::abs(c(0)) > 1e-9 * c.norm())) {
     model.failure = "degenerate borders: the estimated u_m equals u_M";
     return model;
   }
@@ -300,8 +325,8 @@ std::vector<double> effective_input(const std::vector<double>& v, const ModelStr
 }
 
 JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
-                           const JointModel* initial) {
-  const Layout layout = make_layout(config);
+                           const JointModel* initial, bool only_from_initial) {
+  const Layout layout = make_layout(config, std::max(structure.border_segments, 1));
   const std::vector<double> w = effective_input(data.v, structure);
   ModelStructure ls_structure = structure;
   ls_structure.instrumental = false;
@@ -327,8 +352,12 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     }
     return std::pair{std::move(model), std::move(phi)};
   };
-  auto [model, phi] = fit_from(nullptr);
-  if (initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash) {
+  const bool from_initial = initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash;
+  auto [model, phi] = fit_from(from_initial && only_from_initial ? initial : nullptr);
+  if (from_initial && only_from_initial && !model.ok) {
+    // The one start failed (e.g. its regimes leave a border point the fit needs unexcited): try the other.
+    std::tie(model, phi) = fit_from(nullptr);
+  } else if (from_initial && !only_from_initial) {
     auto [other, other_phi] = fit_from(initial);
     if (other.ok && (!model.ok || other.rss < model.rss)) {
       model = std::move(other);

@@ -1,124 +1,25 @@
 #include "lashid/diagnose/diagnosis.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
+
+#include "diagnosis_candidates.hpp"
 
 namespace lashid::sim {
 
 namespace {
 
-double likelihood_ratio(const JointModel& nominal, const JointModel& extended) {
-  if (!extended.ok || !(extended.rss > 0)) return 0.0;
-  return static_cast<double>(nominal.rows) * std::log(nominal.rss / extended.rss);
-}
-
-ResidualAnalysis analyse(const std::vector<double>& e, const std::vector<double>& v) {
-  ResidualAnalysis r;
-  r.samples = e.size();
-  r.autocorrelation = stats::autocorrelation(e, kResidualLags);
-  r.cross_correlation = stats::cross_correlation(e, v, kResidualLags);
-  r.band = stats::correlation_band(e.size(), 0.99);
-  r.whiteness = stats::ljung_box(e, kResidualLags);
-  r.independence = stats::cross_correlation_test(e, v, kResidualLags);
-  r.trend = stats::linear_trend(e);
-  return r;
-}
-
-// One-step residuals of `model` on the identification samples (or on val), with the aligned inputs.
-// On the identification phases these are the regression's own residuals (those of the likelihood ratio); on val
-// the one-step prediction errors of the factorised model.
-ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, bool validation) {
-  if (!validation) {
-    std::vector<double> v;
-    for (std::size_t t : model.residual_t) v.push_back(data.v[t]);
-    return analyse(model.residuals, v);
-  }
-  const std::vector<double> e_all = prediction_errors(model, data, 0, data.size());
-  std::vector<double> e, v;
-  for (std::size_t t = static_cast<std::size_t>(model.n); t < data.size(); ++t) {
-    if (data.is_identification(t) == validation) continue;
-    e.push_back(e_all[t - static_cast<std::size_t>(model.n)]);
-    v.push_back(data.v[t]);
-  }
-  return analyse(e, v);
-}
-
-double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
-               std::vector<double>* simulated = nullptr) {
-  std::vector<double> sim = simulate_segment(model, data, begin, end);
-  const std::span<const double> measured(data.y.data() + begin, end - begin);
-  // An unstable model's simulation diverges: its fit is -infinity (null in JSON), not an error.
-  const bool finite = std::all_of(sim.begin(), sim.end(), [](double x) { return std::isfinite(x); });
-  const double fit = finite ? stats::fit_percent(measured, sim) : -std::numeric_limits<double>::infinity();
-  if (simulated != nullptr) *simulated = std::move(sim);
-  return fit;
-}
-
-double sse(const std::vector<double>& a, std::span<const double> b) {
-  double s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
-  return s;
-}
-
-// Input lag: RSS(lambda) on a 0.05 grid, then a golden-section refinement around the best grid point.
-CandidateCause input_lag_candidate(const ExperimentConfig& config, const FlatRecording& data,
-                                   const JointModel& nominal, const DiagnosisOptions& options) {
-  ModelStructure s = nominal.structure;
-  const auto fit = [&](double lambda) {
-    s.input_lag = lambda;
-    return fit_joint_model(config, data, s, &nominal);
-  };
-  JointModel best = nominal;
-  double best_lambda = 0;
-  for (double lambda = 0.05; lambda <= options.max_input_lag + 1e-9; lambda += 0.05) {
-    JointModel m = fit(lambda);
-    if (m.ok && m.rss < best.rss) {
-      best = std::move(m);
-      best_lambda = lambda;
-    }
-  }
-  if (best_lambda > 0) {
-    double lo = std::max(best_lambda - 0.05, 0.0), hi = std::min(best_lambda + 0.05, options.max_input_lag);
-    const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-    for (int it = 0; it < 10; ++it) {
-      const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-      JointModel m1 = fit(x1), m2 = fit(x2);
-      const double inf = std::numeric_limits<double>::infinity();
-      const double r1 = m1.ok ? m1.rss : inf, r2 = m2.ok ? m2.rss : inf;
-      if (r1 < r2) {
-        hi = x2;
-        if (r1 < best.rss) best = std::move(m1);
-      } else {
-        lo = x1;
-        if (r2 < best.rss) best = std::move(m2);
-      }
-    }
-  }
-  CandidateCause c;
-  c.cause = Cause::kInputLag;
-  c.model = std::move(best);
-  c.parameters.lambda = c.model.structure.input_lag;
-  return c;
-}
-
-CandidateCause dead_time_candidate(const ExperimentConfig& config, const FlatRecording& data,
-                                   const JointModel& nominal, const DiagnosisOptions& options) {
-  CandidateCause c;
-  c.cause = Cause::kDeadTime;
-  c.model = nominal;
-  for (int d = 1; d <= options.max_delay; ++d) {
-    ModelStructure s = nominal.structure;
-    s.delay = d;
-    JointModel m = fit_joint_model(config, data, s, &nominal);
-    if (m.ok && m.rss < c.model.rss) c.model = std::move(m);
-  }
-  c.parameters.delay = c.model.structure.delay;
-  return c;
-}
+using detail::extend_model;
+using detail::residuals;
+using detail::score_candidate;
+using detail::sse;
+using detail::val_fit;
 
 // The recording must hold all five phases, match the config, and give the residual tests enough val samples.
 void check_diagnosable(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
@@ -135,96 +36,187 @@ void check_diagnosable(const ExperimentConfig& config, const Recording& recordin
   }
 }
 
-// The model extended by each cause, fitted on the identification phases (input lag and dead time by their own
-// searches; drift, instrumental variables and the other operator type by one fit each).
-std::vector<CandidateCause> fit_candidates(const ExperimentConfig& config, const FlatRecording& data,
-                                           const JointModel& nominal, const DiagnosisOptions& options) {
-  std::vector<CandidateCause> candidates;
-  candidates.push_back(input_lag_candidate(config, data, nominal, options));
-  candidates.push_back(dead_time_candidate(config, data, nominal, options));
-  ModelStructure nominal_structure;
-  nominal_structure.op = config.op;
-  {
-    CandidateCause c;
-    c.cause = Cause::kSensorDrift;
-    ModelStructure s = nominal_structure;
-    s.drift = true;
-    c.model = fit_joint_model(config, data, s);
-    c.parameters.drift_total = c.model.drift_total();
-    candidates.push_back(std::move(c));
-  }
-  {
-    CandidateCause c;
-    c.cause = Cause::kColoredNoise;
-    ModelStructure s = nominal_structure;
-    s.instrumental = true;
-    c.model = fit_joint_model(config, data, s);
-    c.parameters.instrumental_variables = true;
-    candidates.push_back(std::move(c));
-  }
-  {
-    CandidateCause c;
-    c.cause = Cause::kOperatorType;
-    ModelStructure s = nominal_structure;
-    s.op = config.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
-    c.model = fit_joint_model(config, data, s);
-    c.parameters.op = s.op;
-    candidates.push_back(std::move(c));
-  }
-  return candidates;
+// The model the selection has built so far, with the evidence the next step compares against.
+struct CurrentModel {
+  JointModel model;
+  double fit = 0;
+  std::vector<double> val_simulation;
+  ResidualAnalysis identification;
+};
+
+bool white(const ResidualAnalysis& r, const DiagnosisOptions& options) { return r.whiteness.p_value >= options.white_p; }
+
+// Whether a structural extension of `current` is supported: significant on the identification phases, explaining
+// the residual correlation (white residuals, most of the Ljung-Box statistic gone, or a large val gain when a
+// coloured disturbance keeps the residuals coloured whatever the structure), and better on val (the val check).
+bool structural_accepted(const CandidateCause& c, const CurrentModel& current, const DiagnosisOptions& options) {
+  if (!c.model.ok || stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p) return false;
+  const double val_gain = c.fit_val - current.fit;
+  const bool explains = white(c.identification, options) ||
+                        c.identification.whiteness.statistic <
+                            options.whiteness_ratio * current.identification.whiteness.statistic ||
+                        val_gain >= options.explaining_val_gain;
+  return explains && val_gain > options.min_val_gain;
 }
 
-// Evidence per candidate: val fit, residual analysis, likelihood ratio against the nominal model, and the statistic
-// the decision reads (the val error ratio for the operator type, which the identification phases cannot judge).
-void score_candidates(Diagnosis& d, const FlatRecording& data, std::span<const double> measured,
+void accept(Diagnosis& d, CurrentModel& current, const CandidateCause& c, const FlatRecording& data) {
+  AddedCause added;
+  added.cause = c.cause;
+  added.parameters = c.parameters;
+  added.likelihood_ratio = c.cause == Cause::kColoredNoise ? 0.0 : c.likelihood_ratio;
+  added.fit_before = current.fit;
+  added.ljung_box_before = current.identification.whiteness.statistic;
+  current.model = c.model;
+  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.identification = residuals(current.model, data, false);
+  added.fit_after = current.fit;
+  added.ljung_box_after = current.identification.whiteness.statistic;
+  d.added.push_back(std::move(added));
+}
+
+// Whether a flipped operator type is supported: it must bring the val error energy below operator_sse_ratio of
+// the current model's (score_candidate's p_value 0). The experiments usually make F act as a static map, so only
+// val's reversals tell a switch from a backlash; the structural test also applies when they do not.
+bool operator_accepted(const CandidateCause& c, const CurrentModel& current, const DiagnosisOptions& options) {
+  return c.model.ok && (c.p_value == 0.0 || structural_accepted(c, current, options));
+}
+
+// An input lag found before another cause was fitted without it (a drift, say, biases lambda): once the selection
+// is done, lambda is searched again with every other cause in the model, and the refit kept if it fits better
+// (its val gain is counted in the last step's).
+void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config, const FlatRecording& data,
                       const DiagnosisOptions& options) {
-  for (CandidateCause& c : d.candidates) {
-    if (!c.model.ok) continue;
-    c.fit_val = val_fit(c.model, data, d.val_begin, d.val_end);
-    c.identification = residuals(c.model, data, false);
-    c.likelihood_ratio = likelihood_ratio(d.nominal, c.model);
-    if (c.cause == Cause::kOperatorType) {
-      // Same fit on the identification phases (the experiments make F static); only val can tell.
-      std::vector<double> sim = simulate_segment(c.model, data, d.val_begin, d.val_end);
-      const double nominal_sse = sse(d.val_nominal, measured);
-      const double ratio = std::isfinite(nominal_sse) ? sse(sim, measured) / nominal_sse : 0.0;
-      c.statistic = ratio;
-      c.p_value = ratio < options.operator_sse_ratio ? 0.0 : 1.0;
-    } else if (c.cause != Cause::kColoredNoise) {
-      c.statistic = likelihood_ratio(d.nominal, c.model);
-      c.p_value = stats::chi2_sf(std::max(c.statistic, 0.0), 1.0);
+  const auto lag = std::find_if(d.added.begin(), d.added.end(),
+                                [](const AddedCause& a) { return a.cause == Cause::kInputLag; });
+  if (lag == d.added.end() || lag + 1 == d.added.end()) return;
+  ModelStructure without_lag = current.model.structure;
+  without_lag.input_lag = 0;
+  without_lag.border_segments = 1;
+  const JointModel base = fit_joint_model(config, data, without_lag, &current.model);
+  if (!base.ok) return;
+  const CandidateCause refit = extend_model(config, data, base, Cause::kInputLag, options);
+  if (!refit.model.ok || !(refit.model.rss < current.model.rss)) return;
+  current.model = refit.model;
+  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.identification = residuals(current.model, data, false);
+  // The last step's gain now includes the re-searched lambda, so that the steps still add up to the total gain.
+  d.added.back().fit_after = current.fit;
+  d.added.back().ljung_box_after = current.identification.whiteness.statistic;
+}
+
+// Forward selection. Each round adds, among the supported structural candidates (the causes significant in the
+// first round against the nominal model, and the other operator type if the identification phases can judge it),
+// the one that simulates val best (the likelihood ratio alone prefers an input lag with its flexible borders over
+// a true dead time), and refits the others on top of it. When no single one is supported, the two most
+// significant together are tried (an input lag and a drift can each look worse on val without the other); then
+// the other operator type by its val error alone. Then colored_noise if the residuals are still not white (the extended model becomes the instrumental-variable fit of
+// the structure found, if that simulates val as well).
+void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecording& data,
+                   const DiagnosisOptions& options) {
+  CurrentModel current{d.nominal, d.fit_nominal, d.val_nominal, d.identification};
+  std::vector<CandidateCause> round;
+  for (const CandidateCause& c : d.candidates) {
+    const bool significant = stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) < options.structural_p;
+    if (c.model.ok && (c.cause == Cause::kOperatorType || (c.cause != Cause::kColoredNoise && significant))) {
+      round.push_back(c);
     }
   }
+  const auto first_round_lambda = [&]() -> std::optional<double> {
+    for (const CandidateCause& c : d.candidates) {
+      if (c.cause == Cause::kInputLag && c.model.ok) return c.model.structure.input_lag;
+    }
+    return std::nullopt;
+  };
+  const auto refit = [&](Cause cause, const JointModel& base, const JointModel& before,
+                         std::span<const double> before_val) {
+    CandidateCause c = extend_model(config, data, base, cause, options,
+                                    cause == Cause::kInputLag ? first_round_lambda() : std::nullopt);
+    score_candidate(c, before, before_val, data, d.val_begin, d.val_end, options);
+    return c;
+  };
+  while (!round.empty()) {
+    const CandidateCause* best = nullptr;
+    for (const CandidateCause& c : round) {
+      if (structural_accepted(c, current, options) && (best == nullptr || c.fit_val > best->fit_val)) best = &c;
+    }
+    std::vector<Cause> added;
+    std::vector<const CandidateCause*> structural;
+    for (const CandidateCause& c : round) {
+      if (c.cause != Cause::kOperatorType && c.model.ok) structural.push_back(&c);
+    }
+    std::sort(structural.begin(), structural.end(),
+              [](const auto* a, const auto* b) { return a->likelihood_ratio > b->likelihood_ratio; });
+    if (best != nullptr) {
+      added.push_back(best->cause);
+      accept(d, current, *best, data);
+    } else if (structural.size() >= 2) {
+      const CandidateCause& first = *structural[0];
+      CandidateCause both = refit(structural[1]->cause, first.model, current.model, current.val_simulation);
+      if (structural_accepted(both, current, options)) {
+        added = {first.cause, both.cause};
+        accept(d, current, first, data);
+        accept(d, current, both, data);
+      }
+    }
+    if (added.empty()) {
+      // Last: the other operator type by its val error alone (the identification phases cannot judge it).
+      const auto flipped = std::find_if(round.begin(), round.end(), [&](const CandidateCause& c) {
+        return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
+      });
+      if (flipped == round.end()) break;
+      added.push_back(Cause::kOperatorType);
+      accept(d, current, *flipped, data);
+    }
+    std::vector<CandidateCause> next;
+    for (const CandidateCause& c : round) {
+      if (std::find(added.begin(), added.end(), c.cause) != added.end()) continue;
+      next.push_back(refit(c.cause, current.model, current.model, current.val_simulation));
+    }
+    round = std::move(next);
+  }
+  refine_input_lag(d, current, config, data, options);
+  const ResidualAnalysis& left = current.identification;
+  const double correlation = left.samples > 0 ? left.whiteness.statistic / static_cast<double>(left.samples) : 0.0;
+  if (!white(left, options) && correlation >= options.coloured_correlation) {
+    CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
+    // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
+    // simulates val at least as well (an IV fit of a large structure can be unstable).
+    if (iv.model.ok && val_fit(iv.model, data, d.val_begin, d.val_end) < current.fit) {
+      iv.model = current.model;
+      iv.parameters.instrumental_variables = false;
+    }
+    accept(d, current, iv, data);
+  }
+  d.extended = current.model;
+  d.fit_extended = current.fit;
+  d.val_extended = current.val_simulation;
 }
 
-// Decision: the strongest structural extension that is significant and leaves white residuals; else a flipped
-// operator that halves the val error; else coloured noise if the residuals are not white; else none (nullptr).
-const CandidateCause* decide(const Diagnosis& d, const DiagnosisOptions& options) {
-  const CandidateCause* chosen = nullptr;
-  // The operator type competes here too: the experiments' pulses usually make F static, but not always (e.g.
-  // closely spaced pulses), and then the identification phases themselves tell switch from backlash.
-  for (const CandidateCause& c : d.candidates) {
-    if (c.cause == Cause::kColoredNoise || !c.model.ok) continue;
-    // The extension must explain the residual correlation: white residuals, or a Ljung-Box statistic cut to a
-    // fraction of the nominal one (a coloured disturbance leaves most of it whatever the structure).
-    const bool explains = c.identification.whiteness.p_value >= options.white_p ||
-                          c.identification.whiteness.statistic < options.whiteness_ratio * d.identification.whiteness.statistic;
-    if (stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p || !explains) continue;
-    if (chosen == nullptr || c.likelihood_ratio > chosen->likelihood_ratio) chosen = &c;
+// The parameters of every found cause, as the final (combined) model has them.
+CauseParameters combined_parameters(const Diagnosis& d) {
+  CauseParameters p;
+  for (const AddedCause& a : d.added) {
+    switch (a.cause) {
+      case Cause::kInputLag:
+        p.lambda = d.extended.structure.input_lag;
+        break;
+      case Cause::kDeadTime:
+        p.delay = d.extended.structure.delay;
+        break;
+      case Cause::kSensorDrift:
+        p.drift_total = d.extended.drift_total();
+        break;
+      case Cause::kColoredNoise:
+        p.instrumental_variables = d.extended.structure.instrumental;
+        break;
+      case Cause::kOperatorType:
+        p.op = d.extended.structure.op;
+        break;
+      case Cause::kNone:
+        break;
+    }
   }
-  const auto find = [&](Cause cause) -> const CandidateCause& {
-    return *std::find_if(d.candidates.begin(), d.candidates.end(), [&](const auto& c) { return c.cause == cause; });
-  };
-  // A wrong operator type leaves the identification residuals white (the experiments make F static).
-  if (chosen == nullptr && d.identification.whiteness.p_value >= options.white_p &&
-      find(Cause::kOperatorType).model.ok && find(Cause::kOperatorType).p_value == 0.0) {
-    chosen = &find(Cause::kOperatorType);
-  }
-  if (chosen == nullptr && d.identification.whiteness.p_value < options.white_p &&
-      find(Cause::kColoredNoise).model.ok) {
-    chosen = &find(Cause::kColoredNoise);
-  }
-  return chosen;
+  return p;
 }
 
 }  // namespace
@@ -258,21 +250,19 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
   d.fit_nominal = val_fit(d.nominal, data, d.val_begin, d.val_end, &d.val_nominal);
   const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
 
-  // Structural candidates are judged by the likelihood ratio on the identification phases only.
-  d.candidates = fit_candidates(config, data, d.nominal, options);
-  score_candidates(d, data, measured, options);
-  const CandidateCause* chosen = decide(d, options);
-  if (chosen == nullptr) {
-    d.cause = Cause::kNone;
-    d.extended = d.nominal;
-    d.fit_extended = d.fit_nominal;
-    d.val_extended = d.val_nominal;
-  } else {
-    d.cause = chosen->cause;
-    d.parameters = chosen->parameters;
-    d.extended = chosen->model;
-    d.fit_extended = val_fit(d.extended, data, d.val_begin, d.val_end, &d.val_extended);
+  // Every cause against the nominal model (the evidence the report shows), then the forward selection.
+  for (Cause cause : kAllCauses) {
+    if (cause == Cause::kNone) continue;
+    CandidateCause c = extend_model(config, data, d.nominal, cause, options);
+    score_candidate(c, d.nominal, d.val_nominal, data, d.val_begin, d.val_end, options);
+    d.candidates.push_back(std::move(c));
   }
+  select_causes(d, config, data, options);
+  d.causes.clear();
+  for (const AddedCause& a : d.added) d.causes.push_back(a.cause);
+  if (d.causes.empty()) d.causes.push_back(Cause::kNone);
+  d.cause = d.causes.front();
+  d.parameters = combined_parameters(d);
   d.val_v.assign(data.v.begin() + static_cast<std::ptrdiff_t>(d.val_begin),
                  data.v.begin() + static_cast<std::ptrdiff_t>(d.val_end));
   d.val_measured.assign(measured.begin(), measured.end());

@@ -159,8 +159,14 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
   if (d.cause == Cause::kNone) {
     f.push_back("Conclusion: none. The nominal model explains the data; no extension is supported by the evidence.");
   } else {
-    f.push_back(fmt::format("Conclusion: {} {}. Val fit {:.1f} % (nominal) -> {:.1f} % (extended).", to_string(d.cause),
-                            to_string(d.parameters), d.fit_nominal, d.fit_extended));
+    std::string steps;
+    for (const AddedCause& a : d.added) {
+      steps += fmt::format("{}{} {} ({:.1f} % -> {:.1f} %)", steps.empty() ? "" : ", then ", to_string(a.cause),
+                           to_string(a.parameters), a.fit_before, a.fit_after);
+    }
+    f.push_back(fmt::format("Conclusion: {} cause{}, strongest first: {}. Val fit {:.1f} % (nominal) -> {:.1f} % "
+                            "(extended).",
+                            d.added.size(), d.added.size() > 1 ? "s" : "", steps, d.fit_nominal, d.fit_extended));
   }
   return f;
 }

@@ -26,6 +26,7 @@ nlohmann::json to_json(const JointModel& m) {
           {"input_lag", m.structure.input_lag},
           {"delay", m.structure.delay},
           {"drift", m.structure.drift},
+          {"border_segments", m.structure.border_segments},
           {"estimator", m.structure.instrumental ? "instrumental_variables" : "least_squares"},
           {"n", m.n},
           {"a", m.a},
@@ -78,8 +79,23 @@ nlohmann::json to_json(const Diagnosis& d) {
     }
     candidates.push_back(std::move(j));
   }
+  nlohmann::json causes = nlohmann::json::array();
+  for (Cause c : d.causes) causes.push_back(to_string(c));
+  nlohmann::json added = nlohmann::json::array();
+  for (const AddedCause& a : d.added) {
+    added.push_back({{"cause", to_string(a.cause)},
+                     {"parameters", to_json(a.parameters)},
+                     {"likelihood_ratio", a.likelihood_ratio},
+                     {"fit_before", a.fit_before},
+                     {"fit_after", a.fit_after},
+                     {"gain", a.fit_after - a.fit_before},
+                     {"ljung_box_before", a.ljung_box_before},
+                     {"ljung_box_after", a.ljung_box_after}});
+  }
   return {{"cause", to_string(d.cause)},
+          {"causes", std::move(causes)},
           {"parameters", to_json(d.parameters)},
+          {"gain_per_cause", std::move(added)},
           {"fit_nominal", d.fit_nominal},
           {"fit_extended", d.fit_extended},
           {"findings", d.findings},

@@ -1,8 +1,12 @@
 #include "lashid/sim/hidden_effect.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <span>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -36,29 +40,73 @@ std::vector<double> stable_denominator(int n, Draw& draw) {
 }
 
 // Borders C_d = h + g and C_a = h - g: a rising base h with a gentle wave, and a half-gap g that closes at both
-// ends (the borders meet at v_m and v_M). Drawn at the experiment's levels and linear in between, i.e. in the
-// model class the identification can represent (m points per border); docs/diagnose.md reports what curved
-// borders between the levels do to the input-lag estimate.
-std::pair<Border, Border> random_borders(const std::vector<double>& grid, Draw& draw) {
-  const double rise = draw.uniform(1.0, 3.0);
-  const double wave = draw.uniform(0.0, 0.08) * rise;
-  const double phase = draw.uniform(0.0, 2.0 * std::numbers::pi);
-  const double gap = draw.uniform(0.15, 0.35) * rise;
-  std::vector<std::pair<double, double>> ascending, descending;
+// ends (the borders meet at v_m and v_M). s in [0, 1] is the position in the input interval.
+struct BorderCurves {
+  double rise = 0, wave = 0, phase = 0, gap = 0;
+  // Curved borders only (all zero for linear ones): a tanh step and a faster sine on h, a ripple on g. The sine's
+  // slope can exceed the rise's, so the borders may be non-monotone.
+  double tanh_height = 0, tanh_slope = 0, tanh_centre = 0.5;
+  double sine_height = 0, sine_cycles = 0, sine_phase = 0;
+  double gap_ripple = 0, gap_cycles = 0, gap_phase = 0;
+
+  double half_sum(double s) const {
+    constexpr double two_pi = 2.0 * std::numbers::pi;
+    return rise * s + wave * std::sin(two_pi * s + phase) + tanh_height * std::tanh(tanh_slope * (s - tanh_centre)) +
+           sine_height * std::sin(two_pi * sine_cycles * s + sine_phase);
+  }
+  double half_gap(double s) const {
+    const double ripple = 1.0 + gap_ripple * std::sin(2.0 * std::numbers::pi * gap_cycles * s + gap_phase);
+    // sin(pi s) is -1e-16 rather than 0 at s = 1 + rounding: clamp, so that pow stays real.
+    return gap * std::pow(std::max(std::sin(std::numbers::pi * s), 0.0), 0.7) * ripple;
+  }
+};
+
+// The curved terms come from their own generator (`curve_draw`), so that a case's plant, levels and effect sizes
+// are the same whatever the border shape.
+BorderCurves draw_border_curves(BorderShape shape, Draw& draw, Draw& curve_draw) {
+  BorderCurves b;
+  b.rise = draw.uniform(1.0, 3.0);
+  b.wave = draw.uniform(0.0, 0.08) * b.rise;
+  b.phase = draw.uniform(0.0, 2.0 * std::numbers::pi);
+  b.gap = draw.uniform(0.15, 0.35) * b.rise;
+  if (shape == BorderShape::kCurved) {
+    b.tanh_height = curve_draw.uniform(0.05, 0.2) * b.rise * (curve_draw.coin(0.5) ? 1.0 : -1.0);
+    b.tanh_slope = curve_draw.uniform(4.0, 12.0);
+    b.tanh_centre = curve_draw.uniform(0.2, 0.8);
+    b.sine_height = curve_draw.uniform(0.02, 0.05) * b.rise;
+    b.sine_cycles = curve_draw.uniform(1.5, 4.0);
+    b.sine_phase = curve_draw.uniform(0.0, 2.0 * std::numbers::pi);
+    b.gap_ripple = curve_draw.uniform(0.0, 0.3);
+    b.gap_cycles = curve_draw.uniform(1.0, 3.0);
+    b.gap_phase = curve_draw.uniform(0.0, 2.0 * std::numbers::pi);
+  }
+  return b;
+}
+
+// Linear borders are drawn at the experiment's levels and linear in between, i.e. in the model class the
+// identification can represent (m points per border). Curved ones are tabulated finely enough (400 segments) to
+// be smooth at the scale of the levels' spacing.
+std::pair<Border, Border> make_borders(const BorderCurves& curves, BorderShape shape, const std::vector<double>& grid) {
+  std::vector<double> abscissas = grid;
   const double v_min = grid.front(), v_max = grid.back();
-  for (double v : grid) {
+  if (shape == BorderShape::kCurved) {
+    constexpr int kSegments = 400;
+    abscissas.clear();
+    for (int k = 0; k < kSegments; ++k) abscissas.push_back(v_min + (v_max - v_min) * k / kSegments);
+    abscissas.push_back(v_max);
+  }
+  std::vector<std::pair<double, double>> ascending, descending;
+  for (double v : abscissas) {
     const double s = (v - v_min) / (v_max - v_min);
-    const double h = rise * s + wave * std::sin(2.0 * std::numbers::pi * s + phase);
-    const double g = gap * std::pow(std::sin(std::numbers::pi * s), 0.7);
-    ascending.emplace_back(v, h - g);
-    descending.emplace_back(v, h + g);
+    ascending.emplace_back(v, curves.half_sum(s) - curves.half_gap(s));
+    descending.emplace_back(v, curves.half_sum(s) + curves.half_gap(s));
   }
   return {Border::from_table(std::move(ascending)), Border::from_table(std::move(descending))};
 }
 
 // Validation input: the experiment's levels held 3..20 samples, and in a third of the moves a small reversal
 // (2-8 % of the interval away from the current level and back), where a switch jumps to the other border and a
-// backlash holds. The borders are linear between the levels, so off-level inputs need no border extrapolation.
+// backlash holds.
 std::vector<double> validation_levels(const std::vector<double>& grid, int length, Draw& draw) {
   std::vector<double> v;
   const int last = static_cast<int>(grid.size()) - 1;
@@ -179,13 +227,46 @@ void apply_effect(HiddenEffectCase& c, Cause cause, const EffectSizes& e, std::u
   }
 }
 
+// The order-independent checks of a list of causes (see the header).
+void check_causes(std::span<const Cause> causes) {
+  if (causes.empty()) throw std::invalid_argument("generate_hidden_effect_case: no cause (use none)");
+  for (std::size_t i = 0; i < causes.size(); ++i) {
+    if (causes[i] == Cause::kNone && causes.size() > 1) {
+      throw std::invalid_argument("generate_hidden_effect_case: none cannot be combined with another cause");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (causes[i] == causes[j]) throw std::invalid_argument("generate_hidden_effect_case: a cause is repeated");
+    }
+  }
+}
+
+bool contains(std::span<const Cause> causes, Cause cause) {
+  return std::find(causes.begin(), causes.end(), cause) != causes.end();
+}
+
 }  // namespace
 
 HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, const HiddenEffectLengths& lengths) {
+  const std::array<Cause, 1> causes{cause};
+  HiddenEffectOptions options;
+  options.lengths = lengths;
+  return generate_hidden_effect_case(causes, seed, options);
+}
+
+HiddenEffectCase generate_hidden_effect_case(std::span<const Cause> causes, std::uint64_t seed,
+                                             const HiddenEffectOptions& options) {
+  check_causes(causes);
+  const HiddenEffectLengths& lengths = options.lengths;
+  // A single cause keeps the seed of the one-cause generator (so its cases are unchanged); a second one moves it.
   constexpr std::uint64_t kSeedMix = 0x9e3779b97f4a7c15U, kCauseMix = 0x2545f4914f6cdd1dU;
-  Draw draw(seed * kSeedMix + static_cast<std::uint64_t>(cause) * kCauseMix + 1U);
+  constexpr std::uint64_t kSecondCauseMix = 0xbf58476d1ce4e5b9U, kCurveMix = 0x94d049bb133111ebU;
+  std::uint64_t stream = seed * kSeedMix + static_cast<std::uint64_t>(causes[0]) * kCauseMix + 1U;
+  for (std::size_t i = 1; i < causes.size(); ++i) stream += static_cast<std::uint64_t>(causes[i]) * kSecondCauseMix * i;
+  Draw draw(stream);
+  Draw curve_draw(stream ^ kCurveMix);
   HiddenEffectCase c;
-  c.effect.cause = cause;
+  c.effect.cause = causes[0];
+  c.effect.causes.assign(causes.begin(), causes.end());
   const int n = draw.integer(1, 3);
   const int m = draw.integer(3, 6);
 
@@ -206,7 +287,8 @@ HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, co
   const OperatorKind kind = draw.coin(0.5) ? OperatorKind::kSwitch : OperatorKind::kBacklash;
   c.effect.true_operator = kind;
   c.config.op = kind;
-  const std::pair<Border, Border> borders = random_borders(grid, draw);
+  const BorderCurves curves = draw_border_curves(options.borders, draw, curve_draw);
+  const std::pair<Border, Border> borders = make_borders(curves, options.borders, grid);
   const Border& ascending = borders.first;
   const Border& descending = borders.second;
   c.effect.border_v = grid;
@@ -230,22 +312,40 @@ HiddenEffectCase generate_hidden_effect_case(Cause cause, std::uint64_t seed, co
   s.pulse_length_d = s.pulse_length_a = lengths.pulses;
   s.validation_length = lengths.validation;
   s.initial_output = descending(cfg.v_min);
-  s.make_operator = [kind, cause, borders, sizes]() -> std::unique_ptr<HysteresisOperator> {
+  const double lambda = contains(causes, Cause::kInputLag) ? sizes.lambda : 0.0;
+  const int delay = contains(causes, Cause::kDeadTime) ? sizes.delay : 0;
+  s.make_operator = [kind, lambda, delay, borders]() -> std::unique_ptr<HysteresisOperator> {
     std::unique_ptr<HysteresisOperator> op;
     if (kind == OperatorKind::kSwitch) {
       op = std::make_unique<SwitchOperator>(borders.first, borders.second);
     } else {
       op = std::make_unique<BacklashOperator>(borders.first, borders.second);
     }
-    if (cause == Cause::kInputLag) return std::make_unique<InputLagOperator>(std::move(op), sizes.lambda);
-    if (cause == Cause::kDeadTime) return std::make_unique<DeadTimeOperator>(std::move(op), sizes.delay);
+    if (lambda > 0) op = std::make_unique<InputLagOperator>(std::move(op), lambda);
+    if (delay > 0) op = std::make_unique<DeadTimeOperator>(std::move(op), delay);
     return op;
   };
-  SimulationOptions options;
-  options.seed = noise_seed;
-  options.validation_input = validation;
-  c.recording = simulate(s, options);
-  apply_effect(c, cause, sizes, noise_seed);
+  SimulationOptions simulation;
+  simulation.seed = noise_seed;
+  simulation.validation_input = validation;
+  c.recording = simulate(s, simulation);
+
+  // The true model's val output: the same plant and inputs without the equation error.
+  Scenario noise_free = s;
+  noise_free.noise_variance = 0;
+  const Recording truth = simulate(noise_free, simulation);
+  c.val_true_output.clear();
+  for (const Sample& sample : truth.phase(Phase::kVal)) c.val_true_output.push_back(sample.y);
+
+  for (Cause cause : causes) apply_effect(c, cause, sizes, noise_seed);
+  if (c.effect.drift_total != 0) {
+    // The drift is part of the plant's output as recorded: tau counts from the file's first sample.
+    const double last = static_cast<double>(c.recording.size() - 1);
+    const double first_val = static_cast<double>(c.recording.size() - c.val_true_output.size());
+    for (std::size_t k = 0; k < c.val_true_output.size(); ++k) {
+      c.val_true_output[k] += c.effect.drift_total * (first_val + static_cast<double>(k)) / last;
+    }
+  }
   return c;
 }
 

@@ -41,6 +41,13 @@ struct ModelStructure {
   int delay = 0;              ///< extra pure delay d between command and effect
   bool drift = false;         ///< y carries an offset that changes linearly over the recording
   bool instrumental = false;  ///< instrumental variables instead of least squares (disturbance not white)
+  /// Segments per interval between the experiment's abscissas in the border tables (1: the abscissas only). More
+  /// segments only matter where the operator's input moves between the levels (an input lag): there a real
+  /// border's curvature between the levels would otherwise bias lambda. Points the data never reach are
+  /// interpolated from their neighbours.
+  int border_segments = 1;
+  /// Weight, in samples, of the prior that a point between the abscissas lies on the line through its neighbours.
+  double border_smoothness = 20.0;
 };
 
 /// A fitted model, in the scaling of (3.11c) (u~ = F - u_M, C~_d(v_min) = -1).
@@ -49,8 +56,8 @@ struct JointModel {
   int n = 0;
   double v_min = 0, v_max = 0;
   std::vector<double> a, b;
-  std::vector<double> descending_v, descending_u;  ///< C~_d table: V_d, then v_max (u~ = 0)
-  std::vector<double> ascending_v, ascending_u;    ///< C~_a table: v_min (u~ = C~_d(v_min)), V_a ascending
+  std::vector<double> descending_v, descending_u;  ///< C~_d table: V_d, then v_max (u~ = 0), and points in between
+  std::vector<double> ascending_v, ascending_u;    ///< C~_a table: v_min (u~ = C~_d(v_min)), V_a ascending, and between
   double kappa0 = 0;            ///< constant of the equation: B(1) u_M + A(1) * offset
   double kappa1 = 0;            ///< coefficient of tau / (samples - 1): A(1) * (offset change over the file)
   double residual_variance = 0; ///< RSS / (rows - parameters) of the fit
@@ -69,9 +76,11 @@ struct JointModel {
 };
 
 /// Fits `structure` to the identification phases of `data` (the val phase is never used). For a backlash,
-/// `initial` (optional, same config) gives a second starting point for the operator's regimes.
+/// `initial` (optional, same config) gives a second starting point for the operator's regimes; with
+/// `only_from_initial`, the only one (the switch's regimes, the other start, are a poor guess behind an input lag,
+/// and a search over lambda that starts every fit from a good model saves half its time).
 JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& data, const ModelStructure& structure,
-                           const JointModel* initial = nullptr);
+                           const JointModel* initial = nullptr, bool only_from_initial = false);
 
 /// The command w(t) the operator sees: v delayed by d, then through G(lambda) (at rest on v(0) before t = 0).
 std::vector<double> effective_input(const std::vector<double>& v, const ModelStructure& structure);

@@ -29,12 +29,13 @@ struct ResidualAnalysis {
 };
 inline constexpr int kResidualLags = 20;
 
-/// The fitted size of a cause: only the member of its cause is set (none: nothing).
+/// The fitted sizes of the found causes: only the members of those causes are set (none: nothing).
 struct CauseParameters {
   std::optional<double> lambda;        ///< input_lag
   std::optional<int> delay;            ///< dead_time, in samples
   std::optional<double> drift_total;   ///< sensor_drift: offset change over the file
-  bool instrumental_variables = false; ///< colored_noise: the extended model is the IV estimate
+  bool instrumental_variables = false; ///< colored_noise: the extended model is the IV estimate (false when the IV
+                                       ///< model simulated val worse and the least-squares one was kept)
   std::optional<OperatorKind> op;      ///< operator_type: the operator the data supports
   friend bool operator==(const CauseParameters&, const CauseParameters&) = default;
 };
@@ -53,9 +54,20 @@ struct CandidateCause {
   CauseParameters parameters;
 };
 
-struct Diagnosis {
+/// One cause added to the extended model, in the order of the forward selection (the strongest first).
+struct AddedCause {
   Cause cause = Cause::kNone;
-  CauseParameters parameters;
+  CauseParameters parameters;   ///< of this cause alone
+  double likelihood_ratio = 0;  ///< N ln(RSS_before / RSS_after) on the identification phases (0 for colored_noise)
+  double fit_before = 0, fit_after = 0;  ///< val simulation fit without and with this cause
+  double ljung_box_before = 0, ljung_box_after = 0;  ///< of the identification residuals without and with it
+};
+
+struct Diagnosis {
+  Cause cause = Cause::kNone;   ///< the strongest found cause (causes.front())
+  std::vector<Cause> causes{Cause::kNone};  ///< every found cause, strongest first; {none} when there is none
+  std::vector<AddedCause> added;            ///< the same causes with the gain of each; empty when none
+  CauseParameters parameters;   ///< of every found cause
   JointModel nominal, extended;
   double fit_nominal = 0, fit_extended = 0;  ///< 100 (1 - ||y - y_sim|| / ||y - mean y||) on val
   ResidualAnalysis identification, validation;  ///< nominal model's one-step residuals
@@ -67,13 +79,26 @@ struct Diagnosis {
   std::vector<double> val_v, val_measured, val_nominal, val_extended;
 };
 
-/// Thresholds of the decision (docs/diagnose.md explains how they were chosen, on seeds the tests do not use).
+/// Thresholds of the decision (docs/diagnose.md explains how they were chosen, on seeds the tests and the reported
+/// tables do not use).
 struct DiagnosisOptions {
-  double structural_p = 1e-6;      ///< a structural extension must beat the nominal model at this level
+  double structural_p = 1e-6;      ///< a structural extension must beat the current model at this level
   double white_p = 1e-4;           ///< residuals count as white above this Ljung-Box p-value
-  double whiteness_ratio = 0.1;    ///< or when an extension cuts the nominal Ljung-Box statistic below this fraction
-  double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the nominal one
+  double whiteness_ratio = 0.1;    ///< or when an extension cuts the current Ljung-Box statistic below this fraction
+  /// Or when it raises the val fit by this many points: a structure that merely absorbs a coloured disturbance does
+  /// not simulate val better, a real one next to a coloured disturbance does.
+  double explaining_val_gain = 5.0;
+  /// The val check: a structural extension is accepted only if it raises the val fit by more than this many points.
+  double min_val_gain = 0.5;
+  /// colored_noise also needs the identification residuals' squared autocorrelations (lags 1..20, i.e. Ljung-Box
+  /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
+  /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
+  double coloured_correlation = 0.02;
+  double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
+  int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
+  double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
+  int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
 };
 

@@ -1,0 +1,106 @@
+#include "joint_model_layout.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include "lashid/plant/operators.hpp"
+#include "model_operator.hpp"
+
+namespace lashid::sim::detail {
+
+namespace {
+
+// One stencil per interior node; those of the experiment's abscissas apply only where the data do not reach the
+// node (otherwise the data decide, and a real border may have a kink there).
+void add_stencils(const BorderLayout& border, std::vector<SmoothnessStencil>& stencils) {
+  for (std::size_t k = 1; k + 1 < border.x.size(); ++k) {
+    if (border.param[k] < 0) continue;
+    const double span = border.x[k + 1] - border.x[k - 1];
+    stencils.push_back({border.param[k - 1], border.param[k], border.param[k + 1],
+                        (border.x[k + 1] - border.x[k]) / span, (border.x[k] - border.x[k - 1]) / span});
+  }
+}
+
+// Splits every interval of `border` into `segments` equal parts; the new points get new parameters.
+void subdivide(BorderLayout& border, int segments, int& parameters) {
+  BorderLayout fine;
+  for (std::size_t k = 0; k < border.x.size(); ++k) {
+    if (k > 0) {
+      for (int j = 1; j < segments; ++j) {
+        fine.x.push_back(border.x[k - 1] + (border.x[k] - border.x[k - 1]) * j / segments);
+        fine.param.push_back(parameters++);
+      }
+    }
+    fine.x.push_back(border.x[k]);
+    fine.param.push_back(border.param[k]);
+  }
+  border = std::move(fine);
+}
+
+// The hat-function weights of w on `border` (w outside the nodes is clamped, as Border does).
+HatRow hat(const BorderLayout& border, double w) {
+  const auto& x = border.x;
+  w = std::clamp(w, x.front(), x.back());
+  auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), w) - x.begin());
+  k = std::clamp<std::size_t>(k, 1, x.size() - 1) - 1;
+  const double s = (w - x[k]) / (x[k + 1] - x[k]);
+  HatRow row;
+  row.param = {border.param[k], border.param[k + 1]};
+  row.weight = {border.param[k] >= 0 ? 1.0 - s : 0.0, border.param[k + 1] >= 0 ? s : 0.0};
+  return row;
+}
+
+}  // namespace
+
+Layout make_layout(const ExperimentConfig& c, int segments) {
+  if (c.V_d.size() != static_cast<std::size_t>(c.m) || c.V_a.size() != static_cast<std::size_t>(c.m)) {
+    throw std::invalid_argument("the joint model needs both schemes: V_d and V_a with m points each");
+  }
+  const int m = c.m;
+  Layout l;
+  for (int j = 0; j < m; ++j) {
+    l.descending.x.push_back(c.V_d[static_cast<std::size_t>(j)]);
+    l.descending.param.push_back(j);
+  }
+  l.descending.x.push_back(c.v_max);
+  l.descending.param.push_back(-1);
+  l.ascending.x.push_back(c.v_min);
+  l.ascending.param.push_back(0);  // C_a(v_min) = C_d(v_min) = u_m
+  for (int j = m - 1; j >= 0; --j) {
+    l.ascending.x.push_back(c.V_a[static_cast<std::size_t>(j)]);
+    l.ascending.param.push_back(j == 0 ? -1 : m - 1 + j);
+  }
+  l.parameters = 2 * m - 1;
+  l.level_parameters = l.parameters;
+  if (segments > 1) {
+    subdivide(l.descending, segments, l.parameters);
+    subdivide(l.ascending, segments, l.parameters);
+  }
+  add_stencils(l.descending, l.stencils);
+  add_stencils(l.ascending, l.stencils);
+  return l;
+}
+
+Basis operator_basis(const Layout& layout, const std::vector<double>& w, OperatorKind op,
+                               const JointModel* current) {
+  const std::size_t T = w.size();
+  Basis phi(T);
+  std::unique_ptr<HysteresisOperator> model_op;
+  if (op == OperatorKind::kBacklash && current != nullptr) model_op = make_model_operator(*current, w[0]);
+  double u_prev = model_op ? model_op->step(w[0]) : 0.0;
+  phi[0] = hat(layout.descending, w[0]);
+  for (std::size_t t = 1; t < T; ++t) {
+    bool hold = w[t] == w[t - 1];
+    if (model_op) {
+      const double u = model_op->step(w[t]);
+      hold = hold || u == u_prev;
+      u_prev = u;
+    }
+    phi[t] = hold ? phi[t - 1] : hat(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t]);
+  }
+  return phi;
+}
+
+}  // namespace lashid::sim::detail

@@ -1,0 +1,209 @@
+// One model extended by one more cause, and the evidence on it (see diagnosis_candidates.hpp).
+#include "diagnosis_candidates.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "lashid/stats/metrics.hpp"
+
+namespace lashid::sim::detail {
+
+namespace {
+
+ResidualAnalysis analyse(const std::vector<double>& e, const std::vector<double>& v) {
+  ResidualAnalysis r;
+  r.samples = e.size();
+  r.autocorrelation = stats::autocorrelation(e, kResidualLags);
+  r.cross_correlation = stats::cross_correlation(e, v, kResidualLags);
+  r.band = stats::correlation_band(e.size(), 0.99);
+  r.whiteness = stats::ljung_box(e, kResidualLags);
+  r.independence = stats::cross_correlation_test(e, v, kResidualLags);
+  r.trend = stats::linear_trend(e);
+  return r;
+}
+
+double rss_or_infinity(const JointModel& m) { return m.ok ? m.rss : std::numeric_limits<double>::infinity(); }
+
+// Golden-section search of lambda in [a, b] at a given border resolution; returns the best fit seen (or `best`).
+template <class Fit>
+JointModel golden_lambda(Fit fit, double a, double b, int iterations, JointModel best) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int it = 0; it < iterations; ++it) {
+    const double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    JointModel m1 = fit(x1), m2 = fit(x2);
+    const double r1 = rss_or_infinity(m1), r2 = rss_or_infinity(m2);
+    if (r1 < r2) {
+      b = x2;
+      if (r1 < rss_or_infinity(best)) best = std::move(m1);
+    } else {
+      a = x1;
+      if (r2 < rss_or_infinity(best)) best = std::move(m2);
+    }
+  }
+  return best;
+}
+
+// Input lag: RSS(lambda) on a 0.05 grid with the experiment's abscissas only, then two refinements: with borders
+// linear between the abscissas (+-0.05 around the best grid point), and with points between them
+// (options.lag_border_segments per interval, held smooth by a prior where the data are thin; +-0.15, since a
+// curved border biases the coarse grid). The lag moves the operator's input between the levels, so lambda can
+// only be estimated with a border model that is right there; but a flexible border also absorbs part of lambda's
+// effect, so the finer model is kept only if it earns its extra parameters (BIC): on borders linear between the
+// levels the coarse one is exact and pins lambda far better.
+JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            const DiagnosisOptions& options, std::optional<double> lambda_near) {
+  const auto fit_with = [&](int segments) {
+    return [&, segments](double lambda) {
+      ModelStructure s = current.structure;
+      s.border_smoothness = options.lag_border_smoothness;
+      s.input_lag = lambda;
+      s.border_segments = segments;
+      return fit_joint_model(config, data, s, &current, true);
+    };
+  };
+  const auto coarse = fit_with(1);
+  const auto fine = fit_with(options.lag_border_segments);
+  double lo = 0.05, hi = options.max_input_lag;
+  if (lambda_near) {
+    lo = std::max(lo, *lambda_near - 0.15);
+    hi = std::min(hi, *lambda_near + 0.15);
+  }
+  JointModel best_coarse;
+  double grid_lambda = 0;
+  for (double lambda = lo; lambda <= hi + 1e-9; lambda += 0.05) {
+    JointModel m = coarse(lambda);
+    if (m.ok && m.rss < rss_or_infinity(best_coarse)) {
+      best_coarse = std::move(m);
+      grid_lambda = lambda;
+    }
+  }
+  if (!best_coarse.ok) return current;
+  const double max_lag = options.max_input_lag;
+  best_coarse = golden_lambda(coarse, std::max(grid_lambda - 0.05, 0.0), std::min(grid_lambda + 0.05, max_lag),
+                              options.golden_iterations, std::move(best_coarse));
+  if (options.lag_border_segments <= 1) return best_coarse;
+  const JointModel best_fine = golden_lambda(fine, std::max(grid_lambda - 0.15, 0.0),
+                                             std::min(grid_lambda + 0.15, max_lag), options.golden_iterations,
+                                             JointModel{});
+  if (!best_fine.ok) return best_coarse;
+  const double samples = static_cast<double>(best_coarse.rows);
+  const double gain = samples * std::log(best_coarse.rss / best_fine.rss);
+  const double cost = static_cast<double>(best_fine.parameters - best_coarse.parameters) * std::log(samples);
+  return gain > cost ? best_fine : best_coarse;
+}
+
+JointModel search_dead_time(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            const DiagnosisOptions& options) {
+  JointModel best = current;
+  for (int d = 1; d <= options.max_delay; ++d) {
+    ModelStructure s = current.structure;
+    s.delay = d;
+    JointModel m = fit_joint_model(config, data, s, &current);
+    if (m.ok && (best.structure.delay == 0 || m.rss < best.rss)) best = std::move(m);
+  }
+  return best;
+}
+
+}  // namespace
+
+double likelihood_ratio(const JointModel& before, const JointModel& after) {
+  if (!after.ok || !(after.rss > 0)) return 0.0;
+  return static_cast<double>(before.rows) * std::log(before.rss / after.rss);
+}
+
+// On the identification phases these are the regression's own residuals (those of the likelihood ratio); on val
+// the one-step prediction errors of the factorised model.
+ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, bool validation) {
+  if (!validation) {
+    std::vector<double> v;
+    for (std::size_t t : model.residual_t) v.push_back(data.v[t]);
+    return analyse(model.residuals, v);
+  }
+  const std::vector<double> e_all = prediction_errors(model, data, 0, data.size());
+  std::vector<double> e, v;
+  for (std::size_t t = static_cast<std::size_t>(model.n); t < data.size(); ++t) {
+    if (data.is_identification(t) == validation) continue;
+    e.push_back(e_all[t - static_cast<std::size_t>(model.n)]);
+    v.push_back(data.v[t]);
+  }
+  return analyse(e, v);
+}
+
+double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
+               std::vector<double>* simulated) {
+  std::vector<double> sim = simulate_segment(model, data, begin, end);
+  const std::span<const double> measured(data.y.data() + begin, end - begin);
+  // An unstable model's simulation diverges: its fit is -infinity (null in JSON), not an error.
+  const bool finite = std::all_of(sim.begin(), sim.end(), [](double x) { return std::isfinite(x); });
+  const double fit = finite ? stats::fit_percent(measured, sim) : -std::numeric_limits<double>::infinity();
+  if (simulated != nullptr) *simulated = std::move(sim);
+  return fit;
+}
+
+double sse(std::span<const double> a, std::span<const double> b) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return s;
+}
+
+CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            Cause cause, const DiagnosisOptions& options, std::optional<double> lambda_near) {
+  CandidateCause c;
+  c.cause = cause;
+  ModelStructure s = current.structure;
+  switch (cause) {
+    case Cause::kInputLag:
+      c.model = search_input_lag(config, data, current, options, lambda_near);
+      c.parameters.lambda = c.model.structure.input_lag;
+      break;
+    case Cause::kDeadTime:
+      c.model = search_dead_time(config, data, current, options);
+      c.parameters.delay = c.model.structure.delay;
+      break;
+    case Cause::kSensorDrift:
+      s.drift = true;
+      c.model = fit_joint_model(config, data, s, &current);
+      c.parameters.drift_total = c.model.drift_total();
+      break;
+    case Cause::kColoredNoise:
+      s.instrumental = true;
+      c.model = fit_joint_model(config, data, s, &current);
+      c.parameters.instrumental_variables = true;
+      break;
+    case Cause::kOperatorType:
+      // No starting regimes from `current`: they are the other operator's.
+      s.op = s.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+      c.model = fit_joint_model(config, data, s);
+      c.parameters.op = s.op;
+      break;
+    case Cause::kNone:
+      c.model = current;
+      break;
+  }
+  return c;
+}
+
+void score_candidate(CandidateCause& c, const JointModel& before, std::span<const double> before_val,
+                     const FlatRecording& data, std::size_t val_begin, std::size_t val_end,
+                     const DiagnosisOptions& options) {
+  if (!c.model.ok) return;
+  std::vector<double> simulated;
+  c.fit_val = val_fit(c.model, data, val_begin, val_end, &simulated);
+  c.identification = residuals(c.model, data, false);
+  c.likelihood_ratio = likelihood_ratio(before, c.model);
+  if (c.cause == Cause::kOperatorType) {
+    // Same fit on the identification phases when the experiments make F static; only val can tell.
+    const std::span<const double> measured(data.y.data() + val_begin, val_end - val_begin);
+    const double before_sse = sse(before_val, measured);
+    const double ratio = std::isfinite(before_sse) ? sse(simulated, measured) / before_sse : 0.0;
+    c.statistic = std::isfinite(ratio) ? ratio : std::numeric_limits<double>::infinity();
+    c.p_value = ratio < options.operator_sse_ratio ? 0.0 : 1.0;
+  } else if (c.cause != Cause::kColoredNoise) {
+    c.statistic = c.likelihood_ratio;
+    c.p_value = stats::chi2_sf(std::max(c.statistic, 0.0), 1.0);
+  }
+}
+
+}  // namespace lashid::sim::detail

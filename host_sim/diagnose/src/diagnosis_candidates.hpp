@@ -1,0 +1,40 @@
+// The pieces of the diagnosis shared by the decision (diagnosis.cpp) and the candidate fits
+// (diagnosis_candidates.cpp): one model extended by one more cause, and the evidence scored on it.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "lashid/diagnose/diagnosis.hpp"
+
+namespace lashid::sim::detail {
+
+/// N ln(RSS_before / RSS_after) on the identification rows (0 when `after` failed).
+double likelihood_ratio(const JointModel& before, const JointModel& after);
+
+/// Correlation analysis of the one-step residuals of `model` on the identification phases, or on val.
+ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, bool validation);
+
+/// Simulation fit on [begin, end); -infinity for a diverging simulation. `simulated` receives the simulation.
+double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
+               std::vector<double>* simulated = nullptr);
+
+double sse(std::span<const double> a, std::span<const double> b);
+
+/// `current` extended by `cause` (its parameter searched: lambda over a grid then golden section, the delay over
+/// 1..max_delay), fitted on the identification phases. `lambda_near`, when given, narrows the lambda search to
+/// +-0.1 around it (a later round of the selection re-searches near the first round's value).
+CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            Cause cause, const DiagnosisOptions& options,
+                            std::optional<double> lambda_near = std::nullopt);
+
+/// The evidence on a candidate against the model it extends: val fit, residual analysis, likelihood ratio, and
+/// the statistic the report shows (the val error ratio for the operator type, which the identification phases
+/// usually cannot judge).
+void score_candidate(CandidateCause& candidate, const JointModel& before, std::span<const double> before_val,
+                     const FlatRecording& data, std::size_t val_begin, std::size_t val_end,
+                     const DiagnosisOptions& options);
+
+}  // namespace lashid::sim::detail
