@@ -19,7 +19,8 @@ using namespace lashid::sim;
 
 int run_diagnose(const DiagnoseArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
-  const Recording rec = read_recording_csv(args.data);
+  // As identify reads it: a float32 device's levels (lashid hil --record) given back as the config's.
+  const Recording rec = read_recording_for(config, args.data);
   if (!args.json_out.empty()) check_can_write(args.json_out);
   if (!args.plot_out.empty()) check_can_write(args.plot_out);
   const Diagnosis d = diagnose(config, rec, args.data);

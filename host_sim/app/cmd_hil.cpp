@@ -67,9 +67,7 @@ nlohmann::json estimate_json(const fw::EstimateRecord& e) {
 // scheme the firmware reported.
 std::vector<fw::EstimateRecord> identify_recording(const ExperimentConfig& config, const std::string& path,
                                                    const std::vector<fw::EstimateRecord>& device) {
-  const Recording read = read_recording_csv(path);
-  check_recording_matches(config, read, path);
-  const Recording rec = snap_to_configured_levels(config, read);  // as `lashid identify` does
+  const Recording rec = read_recording_for(config, path);  // as `lashid identify` reads it
   IdentifyOptions f32;
   f32.precision = Precision::kFloat;
   std::vector<fw::EstimateRecord> out;

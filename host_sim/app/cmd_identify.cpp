@@ -16,10 +16,8 @@ using namespace lashid::sim;
 
 int run_identify(const IdentifyArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
-  const Recording read = read_recording_csv(args.data);
-  check_recording_matches(config, read, args.data);
   // A float32 device's recording (lashid hil --record) holds float(V_j): the estimator is given the levels.
-  const Recording rec = snap_to_configured_levels(config, read);
+  const Recording rec = read_recording_for(config, args.data);
   IdentifyOptions options;
   options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
 

@@ -130,4 +130,10 @@ void check_recording_matches(const ExperimentConfig& config, const Recording& re
   }
 }
 
+Recording read_recording_for(const ExperimentConfig& config, const std::filesystem::path& path) {
+  const Recording read = read_recording_csv(path);
+  check_recording_matches(config, read, path.string());
+  return snap_to_configured_levels(config, read);
+}
+
 }  // namespace lashid::sim

@@ -114,4 +114,9 @@ double level_tolerance(const ExperimentConfig& config);
 // estimator, whose own matching is to 64 double eps, must be given. Call after check_recording_matches.
 Recording snap_to_configured_levels(const ExperimentConfig& config, const Recording& recording);
 
+// A recording as `identify`, `diagnose` and `hil` use it with `config`: read_recording_csv, check_recording_matches,
+// then snap_to_configured_levels (a float32 device's float(V_j) given back as the configured V_j). Throws DataError
+// naming `path`.
+Recording read_recording_for(const ExperimentConfig& config, const std::filesystem::path& path);
+
 }  // namespace lashid::sim
