@@ -224,4 +224,24 @@ TEST(FrameDecoder, AFrameCutShortIsAbandonedSoTheNextIsRead) {
   EXPECT_EQ(idle.truncated(), 0u);
 }
 
+TEST(FrameDecoder, AGarbledLengthBeyondTheLinksLargestPayloadCostsOneFrame) {
+  // The plant port carries 8-byte payloads. A length byte garbled to 120 would make a decoder for any frame read the
+  // next 120 bytes (eight requests) as its payload; the plant port's decoder drops it at once.
+  hal::link::PayloadWriter w;
+  w.u32(3);
+  w.f32(1.5f);
+  std::vector<std::uint8_t> good(hal::link::kMaxFrame);
+  good.resize(hal::link::encode_frame(MessageType::kActuate, 0, w.data(), w.size(), good.data()));
+  std::vector<std::uint8_t> stream = good;
+  stream[4] = 120;  // the first frame's length byte
+  for (int k = 0; k < 8; ++k) stream.insert(stream.end(), good.begin(), good.end());
+  const auto frames_with = [&](hal::link::FrameDecoder d) {
+    int frames = 0;
+    for (std::uint8_t x : stream) frames += d.push(x) == hal::link::FrameDecoder::Result::kFrame;
+    return frames;
+  };
+  EXPECT_EQ(frames_with(hal::link::FrameDecoder{hal::link::kExchangePayload}), 8);
+  EXPECT_LT(frames_with(hal::link::FrameDecoder{}), 8);
+}
+
 }  // namespace

@@ -74,7 +74,7 @@ class PlantPeer {
   RunRecorder* recorder_;
   int corrupt_every_;
   HilResult& result_;
-  hal::link::FrameDecoder decoder_;
+  hal::link::FrameDecoder decoder_{hal::link::kExchangePayload};
   std::uint32_t next_t_ = 0;
   std::uint32_t answers_ = 0;
   float last_y_ = 0;

@@ -37,8 +37,8 @@ constexpr milliseconds kSilenceBeforeQuery{500};
 /// QEMU silent for this long when the time limit comes: reported as having stopped answering.
 constexpr std::chrono::seconds kStalled{2};
 /// A frame under way on the plant port lost a byte when, after a silence this long, a new frame starts (the
-/// firmware writes a request in one go, and repeats a lost one after 10 ms). A frame QEMU delivers in two parts
-/// does not start its second part with the sync bytes.
+/// firmware writes a request in one go, and repeats a lost one after 10 ms). QEMU may deliver the bytes one by one,
+/// so only the first is looked at: a frame's continuation rarely starts with the sync byte after such a pause.
 constexpr milliseconds kPlantFrameGap{5};
 
 std::vector<std::uint8_t> frame(link::MessageType type, const link::PayloadWriter& w) {
@@ -215,7 +215,7 @@ class Session {
 
   void on_plant_bytes(const std::uint8_t* data, std::size_t size) {
     const auto now = Clock::now();
-    const bool new_frame = size >= 2 && data[0] == link::kSync0 && data[1] == link::kSync1;
+    const bool new_frame = size >= 1 && data[0] == link::kSync0;
     if (new_frame && now - last_plant_byte_ > kPlantFrameGap) peer_.silence();
     last_plant_byte_ = now;
     const auto reply = peer_.receive(from_plant_.pass(data, size));

@@ -20,6 +20,9 @@ inline constexpr std::uint8_t kSync1 = 0x5A;
 inline constexpr std::size_t kMaxPayload = 128;
 inline constexpr std::size_t kOverhead = 7;  // 2 sync + type + seq + len + 2 crc
 inline constexpr std::size_t kMaxFrame = kMaxPayload + kOverhead;
+/// The payload of the plant port's frames (kActuate, kMeasurement: u32 t, f32 value); an empty kMeasurement ends a
+/// session.
+inline constexpr std::size_t kExchangePayload = 8;
 
 enum class MessageType : std::uint8_t {
   kActuate = 0x01,      ///< firmware -> host: u32 t, f32 v. "Apply v at sample t and measure."
@@ -157,6 +160,11 @@ class FrameDecoder {
  public:
   enum class Result : std::uint8_t { kNeedMore, kFrame, kDropped };
 
+  /// `max_payload`: the longest payload this link carries. A length byte beyond it is a damaged frame at once, so a
+  /// garbled length cannot make the decoder swallow the frames that follow (the plant port: kExchangePayload).
+  constexpr explicit FrameDecoder(std::size_t max_payload = kMaxPayload)
+      : max_payload_(max_payload < kMaxPayload ? max_payload : kMaxPayload) {}
+
   /// Feeds one byte. kFrame: frame() holds a complete, checksum-verified frame. kDropped: a damaged frame was
   /// discarded (counted in crc_errors() or length_errors()).
   Result push(std::uint8_t byte) {
@@ -178,7 +186,7 @@ class FrameDecoder {
         state_ = State::kLength;
         return Result::kNeedMore;
       case State::kLength:
-        if (byte > kMaxPayload) {
+        if (byte > max_payload_) {
           ++length_errors_;
           state_ = State::kHunt0;
           return Result::kDropped;
@@ -229,6 +237,7 @@ class FrameDecoder {
 
  private:
   enum class State : std::uint8_t { kHunt0, kHunt1, kType, kSeq, kLength, kPayload, kCrcLo, kCrcHi };
+  std::size_t max_payload_;
   State state_ = State::kHunt0;
   Frame frame_{};
   std::size_t received_ = 0;

@@ -102,7 +102,7 @@ class RemotePlantPort {
   Channel& channel_;
   std::uint32_t timeout_cycles_;
   int max_retries_;
-  link::FrameDecoder decoder_{};
+  link::FrameDecoder decoder_{link::kExchangePayload};
   std::uint32_t t_ = 0;
   float v_ = 0;
   std::uint8_t seq_ = 0;
