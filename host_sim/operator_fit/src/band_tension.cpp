@@ -157,19 +157,10 @@ TensionFrictionFit fit_extended_by_tension(const std::vector<DamperRecord>& trai
   }
   TensionFrictionFit best;
   for (const auto& [tension, records] : groups) {
-    TensionCurve group{tension, 0, {}, 0, records.size(), {}};
-    double best_sse = std::numeric_limits<double>::infinity();
-    for (const double width : candidate_half_widths(options)) {
-      const CurveAtWidth c = fit_curve_at_width(records, width, options);
-      group.train_error_by_width.emplace_back(width, std::sqrt(c.squared_error / static_cast<double>(c.samples)));
-      if (c.squared_error < best_sse) {
-        best_sse = c.squared_error;
-        group.half_width = width;
-        group.curve = on_grid(c.curve, width, options.points);
-        group.stiffness = c.stiffness;
-      }
-    }
-    best.tensions.push_back(std::move(group));
+    // Each tension's operator is fitted exactly as fit_extended() fits one, on that tension's files.
+    ExtendedFit fit = best_half_width(records, options);
+    best.tensions.push_back(TensionCurve{tension, fit.half_width, on_grid(fit.curve, fit.half_width, options.points),
+                                         fit.stiffness, records.size(), std::move(fit.train_error_by_width)});
   }
   double sum = 0;
   for (std::size_t i = 0; i < train.size(); ++i) {

@@ -202,12 +202,11 @@ std::vector<double> candidate_half_widths(const OperatorFitOptions& options) {
   return widths;
 }
 
-ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorFitOptions& options) {
-  require_training(train);
+ExtendedFit best_half_width(const std::vector<DamperRecord>& records, const OperatorFitOptions& options) {
   ExtendedFit best;
   double best_sse = std::numeric_limits<double>::infinity();
   for (const double width : candidate_half_widths(options)) {
-    const CurveAtWidth c = fit_curve_at_width(train, width, options);
+    const CurveAtWidth c = fit_curve_at_width(records, width, options);
     best.train_error_by_width.emplace_back(width, std::sqrt(c.squared_error / static_cast<double>(c.samples)));
     if (c.squared_error < best_sse) {
       best_sse = c.squared_error;
@@ -216,6 +215,12 @@ ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorF
       best.stiffness = c.stiffness;
     }
   }
+  return best;
+}
+
+ExtendedFit fit_extended(const std::vector<DamperRecord>& train, const OperatorFitOptions& options) {
+  require_training(train);
+  ExtendedFit best = best_half_width(train, options);
   best.fit_train = mean_fit(*best.make(), train);
   return best;
 }

@@ -85,6 +85,10 @@ CurveAtWidth fit_curve_at_width(const std::vector<DamperRecord>& records, double
                                 const OperatorFitOptions& options);
 /// options.half_widths, or 0.02 to 0.50 by 0.02 when it is empty.
 std::vector<double> candidate_half_widths(const OperatorFitOptions& options);
+/// The search of fit_extended() without its training fit: for each candidate_half_widths() r, fit_curve_at_width();
+/// the r of least training squared error (the first of equal ones) with its G and k, and every candidate's RMS
+/// error. fit_train is left 0. Shared by fit_extended() and the per-tension fit (band_tension.hpp).
+ExtendedFit best_half_width(const std::vector<DamperRecord>& records, const OperatorFitOptions& options);
 
 // --------------------------------------------------------------------------------- error by phase of the loop
 
