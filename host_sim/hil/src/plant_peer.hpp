@@ -9,6 +9,7 @@
 #include "lashid/hil/any_plant.hpp"
 #include "lashid/hil/hil.hpp"
 #include "lashid/hil/run_recording.hpp"
+#include "reports.hpp"
 
 namespace lashid::sim::detail {
 
@@ -16,11 +17,6 @@ namespace lashid::sim::detail {
 // and recording each t once (retries are answered from the cache, not recorded again).
 class PlantPeer {
  public:
-  static std::vector<std::uint8_t> measurement_frame(const hal::link::PayloadWriter& w) {
-    std::vector<std::uint8_t> out(hal::link::kMaxFrame);
-    out.resize(hal::link::encode_frame(hal::link::MessageType::kMeasurement, 0, w.data(), w.size(), out.data()));
-    return out;
-  }
 
   PlantPeer(AnyPlant plant, RunRecorder* recorder, int corrupt_every, HilResult& result)
       : plant_(std::move(plant)), recorder_(recorder), corrupt_every_(corrupt_every), result_(result) {}
@@ -59,7 +55,7 @@ class PlantPeer {
       hal::link::PayloadWriter w;
       w.u32(t);
       w.f32(last_y_);
-      auto out = measurement_frame(w);
+      auto out = frame_bytes(hal::link::MessageType::kMeasurement, w);
       if (corrupt_every_ > 0 && ++answers_ % static_cast<std::uint32_t>(corrupt_every_) == 0) {
         out[7] ^= 0x04;  // one bit of y: the firmware must reject it by the checksum
         ++result_.corrupted_by_host;

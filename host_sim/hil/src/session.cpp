@@ -41,17 +41,11 @@ constexpr std::chrono::seconds kStalled{2};
 /// so only the first is looked at: a frame's continuation rarely starts with the sync byte after such a pause.
 constexpr milliseconds kPlantFrameGap{5};
 
-std::vector<std::uint8_t> frame(link::MessageType type, const link::PayloadWriter& w) {
-  std::vector<std::uint8_t> out(link::kMaxFrame);
-  out.resize(link::encode_frame(type, 0, w.data(), w.size(), out.data()));
-  return out;
-}
-
 std::vector<std::uint8_t> command(link::Command c, std::optional<std::uint8_t> argument = std::nullopt) {
   link::PayloadWriter w;
   w.u8(static_cast<std::uint8_t>(c));
   if (argument) w.u8(*argument);
-  return frame(link::MessageType::kCommand, w);
+  return frame_bytes(link::MessageType::kCommand, w);
 }
 
 // One direction of one UART: the bytes as they cross, through ByteFaults when a fault rate is set.
@@ -129,7 +123,7 @@ class Session {
   std::vector<std::uint8_t> design_frame() const {
     link::PayloadWriter w;
     design_.encode(w);
-    return frame(link::MessageType::kDesign, w);
+    return frame_bytes(link::MessageType::kDesign, w);
   }
 
   bool firmware_running() const {
