@@ -42,6 +42,8 @@ struct CurrentModel {
   double fit = 0;
   std::vector<double> val_simulation;
   ResidualAnalysis identification;
+  /// val fit of the same structure fitted by instrumental variables (-infinity when that fails or diverges).
+  double fit_instrumental = -std::numeric_limits<double>::infinity();
 };
 
 bool white(const ResidualAnalysis& r, const DiagnosisOptions& options) { return r.whiteness.p_value >= options.white_p; }
@@ -56,7 +58,13 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
                         c.identification.whiteness.statistic <
                             options.whiteness_ratio * current.identification.whiteness.statistic ||
                         val_gain >= options.explaining_val_gain;
-  return explains && val_gain > options.min_val_gain;
+  // The IV check: an extension that simulates val no better than the current structure with a coloured
+  // disturbance's bias removed (instrumental variables) is absorbing that disturbance, not a missing structure.
+  // Like is compared with like: the extension counts with its own IV fit where that is better (a real dead time
+  // next to coloured noise: least squares biases its val fit, IV does not).
+  const double extended = std::isnan(c.fit_instrumental) ? c.fit_val : std::max(c.fit_val, c.fit_instrumental);
+  const bool beats_instrumental = !options.instrumental_check || extended > current.fit_instrumental;
+  return explains && val_gain > options.min_val_gain && beats_instrumental;
 }
 
 void accept(Diagnosis& d, CurrentModel& current, const CandidateCause& c, const FlatRecording& data) {
@@ -114,6 +122,12 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
 void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecording& data,
                    const DiagnosisOptions& options) {
   CurrentModel current{d.nominal, d.fit_nominal, d.val_nominal, d.identification};
+  const auto update_instrumental = [&]() {
+    const CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
+    current.fit_instrumental = iv.model.ok ? val_fit(iv.model, data, d.val_begin, d.val_end)
+                                           : -std::numeric_limits<double>::infinity();
+  };
+  if (options.instrumental_check) update_instrumental();
   std::vector<CandidateCause> round;
   for (const CandidateCause& c : d.candidates) {
     const bool significant = stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) < options.structural_p;
@@ -134,7 +148,19 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     score_candidate(c, before, before_val, data, d.val_begin, d.val_end, options);
     return c;
   };
+  // The candidate's own IV fit, computed only where the IV check would otherwise reject it.
+  const auto instrumental_fit = [&](CandidateCause& c) {
+    if (!options.instrumental_check || !c.model.ok || c.cause == Cause::kOperatorType ||
+        c.fit_val > current.fit_instrumental || !std::isnan(c.fit_instrumental)) {
+      return;
+    }
+    ModelStructure s = c.model.structure;
+    s.instrumental = true;
+    const JointModel iv = fit_joint_model(config, data, s, &c.model);
+    c.fit_instrumental = iv.ok ? val_fit(iv, data, d.val_begin, d.val_end) : -std::numeric_limits<double>::infinity();
+  };
   while (!round.empty()) {
+    for (CandidateCause& c : round) instrumental_fit(c);
     const CandidateCause* best = nullptr;
     for (const CandidateCause& c : round) {
       if (structural_accepted(c, current, options) && (best == nullptr || c.fit_val > best->fit_val)) best = &c;
@@ -152,6 +178,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     } else if (structural.size() >= 2) {
       const CandidateCause& first = *structural[0];
       CandidateCause both = refit(structural[1]->cause, first.model, current.model, current.val_simulation);
+      instrumental_fit(both);
       if (structural_accepted(both, current, options)) {
         added = {first.cause, both.cause};
         accept(d, current, first, data);
@@ -173,6 +200,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
       next.push_back(refit(c.cause, current.model, current.model, current.val_simulation));
     }
     round = std::move(next);
+    if (options.instrumental_check && !round.empty()) update_instrumental();
   }
   refine_input_lag(d, current, config, data, options);
   const ResidualAnalysis& left = current.identification;

@@ -50,6 +50,8 @@ struct CandidateCause {
   double p_value = 1;    ///< chi2(1) tail of the statistic (operator_type: not a likelihood ratio, see docs)
   double likelihood_ratio = 0;  ///< N ln(RSS_nominal / RSS_extended) on the identification phases (every cause)
   double fit_val = 0;    ///< simulation fit on val
+  /// val fit of the same structure fitted by instrumental variables; NaN until the IV check needs it
+  double fit_instrumental = std::numeric_limits<double>::quiet_NaN();
   ResidualAnalysis identification;  ///< of the extended model's one-step residuals
   CauseParameters parameters;
 };
@@ -90,6 +92,9 @@ struct DiagnosisOptions {
   double explaining_val_gain = 5.0;
   /// The val check: a structural extension is accepted only if it raises the val fit by more than this many points.
   double min_val_gain = 0.5;
+  /// The IV check: a structural extension must also simulate val better than the current structure fitted by
+  /// instrumental variables.
+  bool instrumental_check = true;
   /// colored_noise also needs the identification residuals' squared autocorrelations (lags 1..20, i.e. Ljung-Box
   /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
   /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
@@ -98,6 +103,11 @@ struct DiagnosisOptions {
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
+  /// The fine input-lag model's lambda is the one that simulates val best among those whose likelihood ratio
+  /// against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
+  double lag_val_window = 200.0;
+  /// The fine input-lag model is also used, BIC aside, when it simulates val this many points better.
+  double lag_fine_val_gain = 1.0;
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
 };
