@@ -105,7 +105,7 @@ struct DiagnosisOptions {
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
   /// The fine input-lag model's lambda is the one that simulates val best among those whose likelihood ratio
   /// against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
-  double lag_val_window = 200.0;
+  double lag_val_window = 50.0;
   /// The fine input-lag model is also used, BIC aside, when it simulates val this many points better.
   double lag_fine_val_gain = 1.0;
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
