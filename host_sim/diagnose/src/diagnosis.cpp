@@ -103,9 +103,14 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   const JointModel base = fit_joint_model(config, data, without_lag, &current.model);
   if (!base.ok) return;
   const CandidateCause refit = extend_model(config, data, base, Cause::kInputLag, options);
-  if (!refit.model.ok || !(refit.model.rss < current.model.rss)) return;
+  if (!refit.model.ok) return;
+  // Judged as lambda is chosen: by val (the fine border model's lambda is chosen there).
+  std::vector<double> simulated;
+  const double fit = val_fit(refit.model, data, d.val_begin, d.val_end, &simulated);
+  if (!(fit > current.fit)) return;
   current.model = refit.model;
-  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.fit = fit;
+  current.val_simulation = std::move(simulated);
   current.identification = residuals(current.model, data, false);
   // The last step's gain now includes the re-searched lambda, so that the steps still add up to the total gain.
   d.added.back().fit_after = current.fit;
@@ -176,12 +181,21 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
       added.push_back(best->cause);
       accept(d, current, *best, data);
     } else if (structural.size() >= 2) {
-      const CandidateCause& first = *structural[0];
-      CandidateCause both = refit(structural[1]->cause, first.model, current.model, current.val_simulation);
-      instrumental_fit(both);
-      if (structural_accepted(both, current, options)) {
-        added = {first.cause, both.cause};
-        accept(d, current, first, data);
+      // Both orders: a parameter searched without the other cause can be far off (an input lag's lambda, chosen
+      // by val, without the drift that dominates val), and the second is searched on top of the first.
+      const CandidateCause* first = nullptr;
+      CandidateCause both;
+      for (const auto& [a, b] : {std::pair{structural[0], structural[1]}, std::pair{structural[1], structural[0]}}) {
+        CandidateCause c = refit(b->cause, a->model, current.model, current.val_simulation);
+        instrumental_fit(c);
+        if (structural_accepted(c, current, options) && (first == nullptr || c.fit_val > both.fit_val)) {
+          first = a;
+          both = std::move(c);
+        }
+      }
+      if (first != nullptr) {
+        added = {first->cause, both.cause};
+        accept(d, current, *first, data);
         accept(d, current, both, data);
       }
     }
