@@ -58,7 +58,8 @@ std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data) {
 }
 
 // One fit per lambda along a path: each starts from the previous lambda's regimes (continuation) and, for a
-// backlash, also from `current`'s, keeping the lower RSS. Started from `current` alone, a backlash's regime
+// backlash where the RSS jumped by more than 20 % from the previous lambda's, also from `current`'s, keeping the
+// lower RSS. Started from `current` alone, a backlash's regime
 // iteration ends in a poor fixed point at some lambdas (RSS 3 to 50 times the neighbours' on tuning seeds).
 struct LagPath {
   std::vector<double> lambda;
@@ -68,12 +69,14 @@ struct LagPath {
 
 template <class Fit>
 LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<double>& lambdas, const FlatRecording& data,
-                     std::pair<std::size_t, std::size_t> val) {
+                     std::pair<std::size_t, std::size_t> val, bool two_starts) {
   LagPath path;
   const JointModel* previous = &current;
   for (double lambda : lambdas) {
     JointModel m = fit(lambda, previous);
-    if (previous != &current && current.structure.op == OperatorKind::kBacklash) {
+    // The second start only where the path's fit jumped (a poor fixed point is several times worse).
+    const bool jumped = !m.ok || (previous != &current && m.rss > 1.2 * previous->rss);
+    if (two_starts && jumped && previous != &current && current.structure.op == OperatorKind::kBacklash) {
       JointModel again = fit(lambda, &current);
       if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
     }
@@ -114,7 +117,7 @@ std::size_t best_val(const LagPath& p, double min_rss, double window) {
 //   pulse starts from the same extreme level: a different lambda and a reshaped border give the same outputs; the
 //   RSS profile is flat to 1 % over +-0.15 on curved tuning seeds, and its minimum is biased upward). The val
 //   phase, whose moves join every pair of levels, does tell them apart: lambda is the one whose model simulates
-//   val best, on a 0.05 grid and then a 0.01 grid around it.
+//   val best, on a 0.05 grid and then a 0.01 grid (+-0.02) around it.
 // The fine model is used only if BIC prefers it at its RSS minimum (N ln(RSS_coarse / RSS_fine) > extra
 // parameters x ln N): on borders linear between the levels the coarse model is exact and pins lambda better.
 JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
@@ -153,7 +156,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
                               std::move(best_coarse));
   if (options.lag_border_segments <= 1) return best_coarse;
   const auto val = val_range(data);
-  const LagPath path = fit_lag_path(fine, current, grid, data, val);
+  const LagPath path = fit_lag_path(fine, current, grid, data, val, true);
   if (path.model.empty()) return best_coarse;
   const JointModel& fine_rss = path.model[best_rss(path)];
   const double samples = static_cast<double>(best_coarse.rows);
@@ -164,11 +167,11 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const double coarse_val = val_fit(best_coarse, data, val.first, val.second);
   if (!(gain > cost) && !(path.fit_val[at] > coarse_val + options.lag_fine_val_gain)) return best_coarse;
   std::vector<double> local;
-  for (int k = -4; k <= 4; ++k) {
+  for (int k = -2; k <= 2; ++k) {
     const double lambda = path.lambda[at] + 0.01 * k;
     if (k != 0 && lambda > 0.0 && lambda <= max_lag) local.push_back(lambda);
   }
-  const LagPath near = fit_lag_path(fine, path.model[at], local, data, val);
+  const LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false);
   const std::size_t near_at = best_val(near, min_rss, options.lag_val_window);
   if (near_at == near.model.size() || near.fit_val[near_at] <= path.fit_val[at]) return path.model[at];
   return near.model[near_at];
