@@ -130,6 +130,22 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
   } else {
     for (Cause cause : kAllCauses) rows_hidden.push_back({cause});
   }
+  if (!args.rows.empty()) {
+    std::vector<std::vector<Cause>> chosen;
+    for (const std::string& name : args.rows) {
+      const auto it = std::find_if(rows_hidden.begin(), rows_hidden.end(),
+                                   [&](const std::vector<Cause>& h) { return names(h) == name; });
+      if (it == rows_hidden.end()) {
+        std::string known;
+        for (const auto& h : rows_hidden) known += (known.empty() ? "" : ", ") + names(h);
+        fmt::print(stderr, "error: --row '{}' is not a row of this table ({}){}\n", name, known,
+                   args.pairs ? "" : "; pairs need --pairs");
+        return 2;
+      }
+      chosen.push_back(*it);
+    }
+    rows_hidden = std::move(chosen);
+  }
   const DiagnosisOptions defaults;
   std::vector<Row> rows;
   nlohmann::json cases = nlohmann::json::array();

@@ -103,6 +103,7 @@ struct DiagnoseSweepArgs {
   std::uint64_t first_seed = 1000;
   std::string borders = "linear";  // "linear" or "curved" between the levels
   bool pairs = false;              // the pairs of causes of issue 12 instead of one cause per recording
+  std::vector<std::string> rows;   // only these rows (hidden causes, e.g. input_lag+sensor_drift); empty: all
   std::string json_out;
   bool verbose = false;
 };

@@ -206,6 +206,9 @@ CLI::App* add_diagnose_sweep(CLI::App& app, DiagnoseSweepArgs& args) {
       ->check(CLI::IsMember({"linear", "curved"}))
       ->capture_default_str();
   cmd->add_flag("--pairs", args.pairs, "Hide two causes at once (the pairs of docs/diagnose.md)");
+  cmd->add_option("--row", args.rows,
+                  "Only this row of the table (its hidden causes, e.g. input_lag or input_lag+sensor_drift); "
+                  "repeatable");
   cmd->add_option("--json", args.json_out, "Write the matrix and every case as JSON");
   cmd->add_flag("--verbose", args.verbose, "Print every case");
   return cmd;
