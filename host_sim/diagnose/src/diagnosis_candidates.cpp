@@ -58,8 +58,7 @@ std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data) {
 }
 
 // One fit per lambda along a path: each starts from the previous lambda's regimes (continuation) and, for a
-// backlash where the RSS jumped by more than 20 % from the previous lambda's, also from `current`'s, keeping the
-// lower RSS. Started from `current` alone, a backlash's regime
+// backlash, also from `current`'s, keeping the lower RSS. Started from `current` alone, a backlash's regime
 // iteration ends in a poor fixed point at some lambdas (RSS 3 to 50 times the neighbours' on tuning seeds).
 struct LagPath {
   std::vector<double> lambda;
@@ -74,9 +73,7 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
   const JointModel* previous = &current;
   for (double lambda : lambdas) {
     JointModel m = fit(lambda, previous);
-    // The second start only where the path's fit jumped (a poor fixed point is several times worse).
-    const bool jumped = !m.ok || (previous != &current && m.rss > 1.2 * previous->rss);
-    if (two_starts && jumped && previous != &current && current.structure.op == OperatorKind::kBacklash) {
+    if (two_starts && previous != &current && current.structure.op == OperatorKind::kBacklash) {
       JointModel again = fit(lambda, &current);
       if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
     }
@@ -151,13 +148,16 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
     }
   }
   if (!best_coarse.ok) return current;
-  best_coarse = golden_lambda([&](double l) { return coarse(l, &current); }, std::max(grid_lambda - 0.05, 0.0),
-                              std::min(grid_lambda + 0.05, max_lag), options.golden_iterations,
-                              std::move(best_coarse));
-  if (options.lag_border_segments <= 1) return best_coarse;
+  // The coarse model's golden section only where the coarse model is the answer (every fit costs about the same:
+  // building the normal equations dominates, whatever the border resolution).
+  const auto refined_coarse = [&]() {
+    return golden_lambda([&](double l) { return coarse(l, &current); }, std::max(grid_lambda - 0.05, 0.0),
+                         std::min(grid_lambda + 0.05, max_lag), options.golden_iterations, best_coarse);
+  };
+  if (options.lag_border_segments <= 1) return refined_coarse();
   const auto val = val_range(data);
   const LagPath path = fit_lag_path(fine, current, grid, data, val, true);
-  if (path.model.empty()) return best_coarse;
+  if (path.model.empty()) return refined_coarse();
   const JointModel& fine_rss = path.model[best_rss(path)];
   const double samples = static_cast<double>(best_coarse.rows);
   const double gain = samples * std::log(best_coarse.rss / fine_rss.rss);
@@ -165,7 +165,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const double min_rss = fine_rss.rss;
   const std::size_t at = best_val(path, min_rss, options.lag_val_window);
   const double coarse_val = val_fit(best_coarse, data, val.first, val.second);
-  if (!(gain > cost) && !(path.fit_val[at] > coarse_val + options.lag_fine_val_gain)) return best_coarse;
+  if (!(gain > cost) && !(path.fit_val[at] > coarse_val + options.lag_fine_val_gain)) return refined_coarse();
   std::vector<double> local;
   for (int k = -2; k <= 2; ++k) {
     const double lambda = path.lambda[at] + 0.01 * k;
