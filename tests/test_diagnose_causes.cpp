@@ -1,10 +1,13 @@
 // lashid diagnose on recordings with hidden effects: one test per cause (two seeds each) on borders linear between
 // the levels, the causes the docs report at 100 % on curved borders, and a pair. The truth comes from the
 // generator (drawn plant, effects and sizes), never from the diagnosis itself. Seeds 5000+ are used here; the
-// decision thresholds were chosen on seeds 1000-1009 (and 1000-1005, 2000-2009 before issue 12).
+// decision thresholds were chosen on seeds 1000-1009 (and 1000-1005, 2000-2009 before issue 12; 1000-1039 in
+// session 6). The mechanism tests at the end use tuning seeds on purpose: those where each mechanism was seen
+// to change the answer, so that each test fails without it.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -88,9 +91,7 @@ TEST(DiagnoseCurvedBorders, FindsTheCausesTheDocsReportAtFullRate) {
   }
 }
 
-// The pair docs/diagnose.md reports at full rate (20 of 20 test seeds). The others are below 90 % there; one of
-// their misses is sensor_drift + colored_noise on this very seed (a dead time and an input lag are added to absorb
-// the coloured noise, each raising the val fit), listed under "What still fails".
+// The pair docs/diagnose.md reported at full rate in session 5 (20 of 20 test seeds); the others are below 90 %.
 TEST(DiagnosePairs, NamesBothHiddenCausesOnCurvedBorders) {
   HiddenEffectOptions curved;
   curved.borders = BorderShape::kCurved;
@@ -102,6 +103,52 @@ TEST(DiagnosePairs, NamesBothHiddenCausesOnCurvedBorders) {
                                       << d.causes.size() << " causes " << to_string(d.parameters));
     expect_found(c, d);
   }
+}
+
+// The mechanisms of session 6, each on the tuning seeds (docs/diagnose.md) where it was seen to matter, so that
+// each test fails without its mechanism (the answers without it are given; the truth is the generator's).
+HiddenEffectCase curved_case(std::span<const Cause> causes, std::uint64_t seed) {
+  HiddenEffectOptions curved;
+  curved.borders = BorderShape::kCurved;
+  return generate_hidden_effect_case(causes, seed, curved);
+}
+
+// The IV check: sensor noise alone, which an input lag (seed 1005: lambda 0.68, val 44.6 % -> 71.7 %) or a dead
+// time (seed 1015) absorbed well enough to pass the val check; the nominal structure fitted by instrumental
+// variables simulates val better than either (84.4 % and 80.3 %).
+TEST(DiagnoseMechanisms, TheIvCheckKeepsAStructureFromAbsorbingSensorNoise) {
+  const std::array<Cause, 1> hidden{Cause::kColoredNoise};
+  for (std::uint64_t seed : {1005U, 1015U}) {
+    const HiddenEffectCase c = curved_case(hidden, seed);
+    const Diagnosis d = diagnose(c.config, c.recording, "generated");
+    SCOPED_TRACE(::testing::Message() << "seed " << seed << ": " << to_string(d.parameters));
+    expect_found(c, d);
+  }
+}
+
+// A drift behind an unmodelled input lag: against the nominal model its likelihood ratio is 3 (seed 1012) and 2
+// (seed 1021), far from significant, and the lag alone simulates val worse than the nominal model. Kept as a
+// candidate, the drift is found with the lag (without this, the diagnosis answered colored_noise on both).
+TEST(DiagnoseMechanisms, ADriftHiddenBehindAnInputLagIsFoundWithIt) {
+  const std::array<Cause, 2> hidden{Cause::kInputLag, Cause::kSensorDrift};
+  for (std::uint64_t seed : {1012U, 1021U}) {
+    const HiddenEffectCase c = curved_case(hidden, seed);
+    const Diagnosis d = diagnose(c.config, c.recording, "generated");
+    SCOPED_TRACE(::testing::Message() << "seed " << seed << ": " << to_string(d.parameters));
+    expect_found(c, d);
+  }
+}
+
+// The lambda path: behind this backlash (seed 1020, true lambda 0.425) the fit started from the nominal model's
+// regimes ends in a poor fixed point at the true lambda (RSS 49 times the best), and session 5's search answered
+// 0.298. Started from the neighbouring lambda's regimes, the path reaches it.
+TEST(DiagnoseMechanisms, TheLambdaPathFindsTheLagBehindABacklash) {
+  const std::array<Cause, 1> hidden{Cause::kInputLag};
+  const HiddenEffectCase c = curved_case(hidden, 1020);
+  ASSERT_EQ(c.effect.true_operator, OperatorKind::kBacklash);
+  const Diagnosis d = diagnose(c.config, c.recording, "generated");
+  SCOPED_TRACE(to_string(d.parameters));
+  expect_found(c, d);
 }
 
 }  // namespace
