@@ -89,4 +89,18 @@ TEST_F(CliDiagnose, FindsAnInputLagBehindABacklashOnTheGridPoint) {
   EXPECT_GT(j.at("fit_extended").get<double>(), j.at("fit_nominal").get<double>() + 10.0);
 }
 
+// diagnose-sweep --row runs only the named rows; a name that is not a row of the chosen table is an error that
+// lists the table's rows (a pair needs --pairs).
+TEST_F(CliDiagnose, SweepRunsOnlyTheNamedRowAndRefusesAnUnknownOne) {
+  const Outcome one = run({"diagnose-sweep", "--row", "none", "--seeds", "1", "--first-seed", "5000"});
+  ASSERT_EQ(one.exit_code, 0) << one;
+  EXPECT_NE(one.out.find("none "), std::string::npos) << one;
+  EXPECT_EQ(one.out.find("dead_time "), std::string::npos) << one;
+  EXPECT_NE(one.out.find("1 of 1 hits"), std::string::npos) << one;
+  const Outcome pair = run({"diagnose-sweep", "--row", "input_lag+sensor_drift", "--seeds", "1"});
+  EXPECT_EQ(pair.exit_code, 2) << pair;
+  EXPECT_NE(pair.err.find("not a row of this table"), std::string::npos) << pair;
+  EXPECT_NE(pair.err.find("pairs need --pairs"), std::string::npos) << pair;
+}
+
 }  // namespace
