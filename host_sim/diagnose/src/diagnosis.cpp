@@ -89,9 +89,10 @@ bool operator_accepted(const CandidateCause& c, const CurrentModel& current, con
   return c.model.ok && (c.p_value == 0.0 || structural_accepted(c, current, options));
 }
 
-// An input lag found before another cause was fitted without it (a drift, say, biases lambda): once the selection
-// is done, lambda is searched again with every other cause in the model, and the refit kept if it fits better
-// (its val gain is counted in the last step's).
+// An input lag found before another cause was fitted without it (a drift, say, biases lambda), and one found after
+// another cause was searched only near the first round's lambda (chosen without that cause): once the selection
+// is done, lambda is searched again over its whole range with every other cause in the model, and the refit kept
+// if it simulates val better (its val gain is counted in the last step's).
 void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config, const FlatRecording& data,
                       const DiagnosisOptions& options) {
   const auto lag = std::find_if(d.added.begin(), d.added.end(),
