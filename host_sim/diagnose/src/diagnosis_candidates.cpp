@@ -115,8 +115,9 @@ std::size_t best_val(const LagPath& p, double min_rss, double window) {
 //   RSS profile is flat to 1 % over +-0.15 on curved tuning seeds, and its minimum is biased upward). The val
 //   phase, whose moves join every pair of levels, does tell them apart: lambda is the one whose model simulates
 //   val best, on a 0.05 grid and then a 0.01 grid (+-0.02) around it.
-// The fine model is used only if BIC prefers it at its RSS minimum (N ln(RSS_coarse / RSS_fine) > extra
-// parameters x ln N): on borders linear between the levels the coarse model is exact and pins lambda better.
+// The fine model is used if BIC prefers it at its RSS minimum (N ln(RSS_coarse / RSS_fine) > extra parameters x
+// ln N) or if it simulates val more than options.lag_fine_val_gain points better than the coarse one; otherwise
+// the coarse model (on borders linear between the levels it is exact and pins lambda better).
 JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
                             const DiagnosisOptions& options, std::optional<double> lambda_near) {
   const auto fit_with = [&](int segments) {

@@ -23,9 +23,10 @@ double val_fit(const JointModel& model, const FlatRecording& data, std::size_t b
 
 double sse(std::span<const double> a, std::span<const double> b);
 
-/// `current` extended by `cause` (its parameter searched: lambda over a grid then golden section, the delay over
-/// 1..max_delay), fitted on the identification phases. `lambda_near`, when given, narrows the lambda search to
-/// +-0.1 around it (a later round of the selection re-searches near the first round's value).
+/// `current` extended by `cause` (its parameter searched: lambda over a grid, by RSS with borders linear between
+/// the levels or by val with finer borders, see search_input_lag; the delay over 1..max_delay), fitted on the
+/// identification phases. `lambda_near`, when given, narrows the lambda search to
+/// +-0.15 around it (a later round of the selection re-searches near the first round's value).
 CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
                             Cause cause, const DiagnosisOptions& options,
                             std::optional<double> lambda_near = std::nullopt);
