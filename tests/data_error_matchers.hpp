@@ -6,6 +6,7 @@
 
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "lashid/io/recording.hpp"
 
@@ -16,15 +17,16 @@ inline ::testing::AssertionResult Contains(std::string_view text, std::string_vi
   return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
 }
 
-/// Message of the DataError thrown by `action`, or a test failure if it throws none.
-template <class Action>
+/// Message of the `Error` (a DataError unless named, e.g. error_of<std::invalid_argument>) thrown by `action`, or
+/// a test failure if it throws none.
+template <class Error = sim::DataError, class Action>
 std::string error_of(Action&& action) {
   try {
     action();
-  } catch (const sim::DataError& error) {
+  } catch (const Error& error) {
     return error.what();
   }
-  ADD_FAILURE() << "expected a DataError";
+  ADD_FAILURE() << (std::is_same_v<Error, sim::DataError> ? "expected a DataError" : "expected the action to throw");
   return {};
 }
 

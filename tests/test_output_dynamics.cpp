@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "data_error_matchers.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
 
@@ -17,19 +18,8 @@ namespace {
 
 using namespace lashid::sim;
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-// The message of the std::invalid_argument that `action` throws ("" and a failure if it throws none).
-template <typename Action>
-std::string error_of(Action&& action) {
-  try {
-    action();
-  } catch (const std::invalid_argument& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "expected std::invalid_argument";
-  return {};
-}
+using lashid::test::Contains;
+using lashid::test::error_of;
 
 constexpr double kRate = 1024.0;
 constexpr double kPi = std::numbers::pi;
@@ -161,16 +151,16 @@ TEST(OutputDynamics, NoisyMeasurementStillGivesTheResonanceAndTheOrder) {
 
 TEST(OutputDynamics, BadInputIsAClearError) {
   const FilterData ok{{1, 2, 3, 4, 5, 6}, {1, 2, 3, 4, 5, 6}};
-  EXPECT_TRUE(Contains(error_of([&] { fit_arx({ok}, 0); }), "order must be >= 1, got 0"));
-  EXPECT_TRUE(Contains(error_of([] { fit_arx({}, 2); }), "no training files"));
-  EXPECT_TRUE(Contains(error_of([] { fit_arx({FilterData{{1, 2}, {1}}}, 1); }),
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([&] { fit_arx({ok}, 0); }), "order must be >= 1, got 0"));
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([] { fit_arx({}, 2); }), "no training files"));
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([] { fit_arx({FilterData{{1, 2}, {1}}}, 1); }),
                        "operator output has 2 samples, measurement 1"));
-  EXPECT_TRUE(Contains(error_of([&] { fit_arx({ok}, 3); }), "3 equations for 7 parameters"));
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([&] { fit_arx({ok}, 3); }), "3 equations for 7 parameters"));
   OutputDynamicsOptions bad;
   bad.min_order = 3;
   bad.max_order = 2;
-  EXPECT_TRUE(Contains(error_of([&] { fit_output_dynamics({ok}, bad); }), "orders 3..2"));
-  EXPECT_TRUE(Contains(error_of([&] { refine_output_error({ok}, OutputFilter{{0.5}, {1}}); }),
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([&] { fit_output_dynamics({ok}, bad); }), "orders 3..2"));
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([&] { refine_output_error({ok}, OutputFilter{{0.5}, {1}}); }),
                        "needs n a's and n + 1 b's"));
 }
 
@@ -192,7 +182,7 @@ TEST(ErrorOscillation, FindsTheFrequencyAndShareOfAFastErrorOverASlowOne) {
   const double share = amplitude * amplitude / 2 / (offset * offset + amplitude * amplitude / 2);
   EXPECT_NEAR(osc.fast_share, share, 0.01);
   EXPECT_EQ(error_oscillation(simulated, simulated, rate).fast_share, 0.0);
-  EXPECT_TRUE(Contains(error_of([] { error_oscillation(std::vector<double>{1, 2}, std::vector<double>{1}, 1.0); }),
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([] { error_oscillation(std::vector<double>{1, 2}, std::vector<double>{1}, 1.0); }),
                        "need equal sizes (2 vs 1)"));
 }
 
