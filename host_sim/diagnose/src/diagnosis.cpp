@@ -128,11 +128,12 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
 void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecording& data,
                    const DiagnosisOptions& options) {
   CurrentModel current{d.nominal, d.fit_nominal, d.val_nominal, d.identification};
-  const auto update_instrumental = [&]() {
-    const CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
-    current.fit_instrumental = iv.model.ok ? val_fit(iv.model, data, d.val_begin, d.val_end)
-                                           : -std::numeric_limits<double>::infinity();
+  // The val fit of `model`'s structure fitted by instrumental variables (the colored_noise extension).
+  const auto instrumental_val_fit = [&](const JointModel& model) {
+    const CandidateCause iv = extend_model(config, data, model, Cause::kColoredNoise, options);
+    return iv.model.ok ? val_fit(iv.model, data, d.val_begin, d.val_end) : -std::numeric_limits<double>::infinity();
   };
+  const auto update_instrumental = [&]() { current.fit_instrumental = instrumental_val_fit(current.model); };
   if (options.instrumental_check) update_instrumental();
   std::vector<CandidateCause> round;
   for (const CandidateCause& c : d.candidates) {
@@ -162,10 +163,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
         c.fit_val > current.fit_instrumental || !std::isnan(c.fit_instrumental)) {
       return;
     }
-    ModelStructure s = c.model.structure;
-    s.instrumental = true;
-    const JointModel iv = fit_joint_model(config, data, s, &c.model);
-    c.fit_instrumental = iv.ok ? val_fit(iv, data, d.val_begin, d.val_end) : -std::numeric_limits<double>::infinity();
+    c.fit_instrumental = instrumental_val_fit(c.model);
   };
   while (!round.empty()) {
     for (CandidateCause& c : round) instrumental_fit(c);
