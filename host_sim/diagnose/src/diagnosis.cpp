@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include <fmt/format.h>
@@ -270,11 +271,7 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
   // A float32 device's recording (lashid hil --record) holds float(V_j): the model is fitted on the levels.
   const FlatRecording data = flatten(snap_to_configured_levels(config, recording));
   Diagnosis d;
-  for (std::size_t t = 0; t < data.size(); ++t) {
-    if (data.phase[t] != Phase::kVal) continue;
-    if (d.val_end == 0) d.val_begin = t;
-    d.val_end = t + 1;
-  }
+  std::tie(d.val_begin, d.val_end) = detail::val_range(data);
 
   // The paper's estimates per scheme, and their disagreement on A and B (Remark 3b, as the firmware reports it).
   d.dis = identify_scheme(config, recording, est::Scheme::kDescending, {}, data_name);

@@ -45,18 +45,6 @@ JointModel golden_lambda(Fit fit, double a, double b, int iterations, JointModel
   return best;
 }
 
-// The val phase of the flattened recording: [begin, end).
-std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data) {
-  std::size_t begin = data.size();
-  for (std::size_t t = 0; t < data.size(); ++t) {
-    if (!data.is_identification(t)) {
-      begin = t;
-      break;
-    }
-  }
-  return {begin, data.size()};
-}
-
 // One fit per lambda along a path: each starts from the previous lambda's regimes (continuation) and, for a
 // backlash, also from `current`'s, keeping the lower RSS. Started from `current` alone, a backlash's regime
 // iteration ends in a poor fixed point at some lambdas (RSS 3 to 50 times the neighbours' on tuning seeds).
@@ -191,6 +179,16 @@ JointModel search_dead_time(const ExperimentConfig& config, const FlatRecording&
 }
 
 }  // namespace
+
+std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data) {
+  std::size_t begin = 0, end = 0;
+  for (std::size_t t = 0; t < data.size(); ++t) {
+    if (data.phase[t] != Phase::kVal) continue;
+    if (end == 0) begin = t;
+    end = t + 1;
+  }
+  return {begin, end};
+}
 
 double likelihood_ratio(const JointModel& before, const JointModel& after) {
   if (!after.ok || !(after.rss > 0)) return 0.0;

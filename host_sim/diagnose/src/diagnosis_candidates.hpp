@@ -5,11 +5,15 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "lashid/diagnose/diagnosis.hpp"
 
 namespace lashid::sim::detail {
+
+/// The val phase of the flattened recording: [first val sample, last val sample + 1); {0, 0} without one.
+std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data);
 
 /// N ln(RSS_before / RSS_after) on the identification rows (0 when `after` failed).
 double likelihood_ratio(const JointModel& before, const JointModel& after);
