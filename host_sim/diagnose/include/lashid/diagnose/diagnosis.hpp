@@ -95,6 +95,14 @@ struct DiagnosisOptions {
   /// The IV check: a structural extension must also simulate val better than the current structure fitted by
   /// instrumental variables.
   bool instrumental_check = true;
+  /// Like with like: every structural candidate is also fitted by instrumental variables, and ranked and judged
+  /// ("explains", above) by the better of its two val fits against the better of the current model's two. Under
+  /// sensor noise least squares biases a real drift's val fit as much as the nominal model's.
+  bool instrumental_ranking = true;
+  /// The dead time's delay is the one whose instrumental-variable fit simulates the identification phases best
+  /// (least squares' RSS, biased by a coloured disturbance, picks one sample too many); the RSS where every IV fit
+  /// fails.
+  bool delay_by_simulation = true;
   /// colored_noise also needs the identification residuals' squared autocorrelations (lags 1..20, i.e. Ljung-Box
   /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
   /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
