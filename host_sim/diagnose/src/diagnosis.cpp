@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <tuple>
@@ -99,15 +100,14 @@ bool operator_accepted(const CandidateCause& c, const CurrentModel& current, con
   return c.model.ok && (c.p_value == 0.0 || structural_accepted(c, current, options));
 }
 
-// An input lag found before another cause was fitted without it (a drift, say, biases lambda), and one found after
-// another cause was searched only near the first round's lambda (chosen without that cause): once the selection
-// is done, lambda is searched again over its whole range with every other cause in the model, and the refit kept
-// if it simulates val better (its val gain is counted in the last step's).
+// An input lag found before another cause was fitted without it (a drift, say, biases lambda): once the selection
+// is done, lambda is searched again with every other cause in the model, and the refit kept if it simulates val
+// better (its val gain is counted in the last step's). A lag added last was searched with all the others in.
 void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config, const FlatRecording& data,
                       const DiagnosisOptions& options) {
   const auto lag = std::find_if(d.added.begin(), d.added.end(),
                                 [](const AddedCause& a) { return a.cause == Cause::kInputLag; });
-  if (lag == d.added.end() || d.added.size() < 2) return;  // a lag added last was searched narrowed (+-0.15)
+  if (lag == d.added.end() || std::next(lag) == d.added.end()) return;
   ModelStructure without_lag = current.model.structure;
   without_lag.input_lag = 0;
   without_lag.border_segments = 1;
@@ -154,16 +154,9 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
       round.push_back(c);
     }
   }
-  const auto first_round_lambda = [&]() -> std::optional<double> {
-    for (const CandidateCause& c : d.candidates) {
-      if (c.cause == Cause::kInputLag && c.model.ok) return c.model.structure.input_lag;
-    }
-    return std::nullopt;
-  };
   const auto refit = [&](Cause cause, const JointModel& base, const JointModel& before,
                          std::span<const double> before_val) {
-    CandidateCause c = extend_model(config, data, base, cause, options,
-                                    cause == Cause::kInputLag ? first_round_lambda() : std::nullopt);
+    CandidateCause c = extend_model(config, data, base, cause, options);
     score_candidate(c, before, before_val, data, d.val_begin, d.val_end, options);
     return c;
   };

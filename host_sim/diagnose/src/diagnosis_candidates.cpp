@@ -107,7 +107,7 @@ std::size_t best_val(const LagPath& p, double min_rss, double window) {
 // ln N) or if it simulates val more than options.lag_fine_val_gain points better than the coarse one; otherwise
 // the coarse model (on borders linear between the levels it is exact and pins lambda better).
 JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
-                            const DiagnosisOptions& options, std::optional<double> lambda_near) {
+                            const DiagnosisOptions& options) {
   const auto fit_with = [&](int segments) {
     return [&, segments](double lambda, const JointModel* start) {
       ModelStructure s = current.structure;
@@ -120,13 +120,8 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const auto coarse = fit_with(1);
   const auto fine = fit_with(options.lag_border_segments);
   const double max_lag = options.max_input_lag;
-  double lo = 0.05, hi = max_lag;
-  if (lambda_near) {
-    lo = std::max(lo, *lambda_near - 0.15);
-    hi = std::min(hi, *lambda_near + 0.15);
-  }
   std::vector<double> grid;
-  for (double lambda = lo; lambda <= hi + 1e-9; lambda += 0.05) grid.push_back(lambda);
+  for (double lambda = 0.05; lambda <= max_lag + 1e-9; lambda += 0.05) grid.push_back(lambda);
   JointModel best_coarse;
   double grid_lambda = 0;
   for (double lambda : grid) {
@@ -262,13 +257,13 @@ double sse(std::span<const double> a, std::span<const double> b) {
 }
 
 CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
-                            Cause cause, const DiagnosisOptions& options, std::optional<double> lambda_near) {
+                            Cause cause, const DiagnosisOptions& options) {
   CandidateCause c;
   c.cause = cause;
   ModelStructure s = current.structure;
   switch (cause) {
     case Cause::kInputLag:
-      c.model = search_input_lag(config, data, current, options, lambda_near);
+      c.model = search_input_lag(config, data, current, options);
       c.parameters.lambda = c.model.structure.input_lag;
       break;
     case Cause::kDeadTime:

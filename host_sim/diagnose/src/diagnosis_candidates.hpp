@@ -29,11 +29,11 @@ double sse(std::span<const double> a, std::span<const double> b);
 
 /// `current` extended by `cause` (its parameter searched: lambda over a grid, by RSS with borders linear between
 /// the levels or by val with finer borders, see search_input_lag; the delay over 1..max_delay), fitted on the
-/// identification phases. `lambda_near`, when given, narrows the lambda search to
-/// +-0.15 around it (a later round of the selection re-searches near the first round's value).
+/// identification phases. Lambda is searched over its whole range in every round: a lag searched on top of a drift
+/// only near the first round's value (fitted without the drift) missed it by up to 0.4 (tuning seeds 1007 and 1019
+/// of input_lag+sensor_drift).
 CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
-                            Cause cause, const DiagnosisOptions& options,
-                            std::optional<double> lambda_near = std::nullopt);
+                            Cause cause, const DiagnosisOptions& options);
 
 /// The evidence on a candidate against the model it extends: val fit, residual analysis, likelihood ratio, and
 /// the statistic the report shows (the val error ratio for the operator type, which the identification phases
