@@ -106,14 +106,14 @@ struct DiagnosisOptions {
   /// colored_noise also needs the identification residuals' squared autocorrelations (lags 1..20, i.e. Ljung-Box
   /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
   /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
-  double coloured_correlation = 0.02;
+  double coloured_correlation = 0.03;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
   /// The fine input-lag model's lambda is the one that simulates val best among those whose likelihood ratio
   /// against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
-  double lag_val_window = 50.0;
+  double lag_val_window = 200.0;
   /// The fine input-lag model is also used, BIC aside, when it simulates val this many points better.
   double lag_fine_val_gain = 1.0;
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
