@@ -128,6 +128,47 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   d.added.back().ljung_box_after = current.identification.whiteness.statistic;
 }
 
+// Backward elimination once the forward selection is done: a structural cause that the final model no longer
+// needs (refitted without it, the others kept as they are, the likelihood ratio is not significant) is dropped.
+// The two-causes fallback adds a pair whose first member is not tested alone: on curved borders a drift of
+// nothing came in with an input lag (a drift_total of 1e-4 to 0.05 where none was hidden).
+void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                          const FlatRecording& data, const DiagnosisOptions& options) {
+  if (!options.backward_elimination) return;
+  for (std::size_t i = d.added.size(); i-- > 0;) {
+    ModelStructure without = current.model.structure;
+    switch (d.added[i].cause) {
+      case Cause::kSensorDrift:
+        without.drift = false;
+        break;
+      case Cause::kDeadTime:
+        without.delay = 0;
+        break;
+      case Cause::kInputLag:
+        without.input_lag = 0;
+        without.border_segments = 1;
+        break;
+      default:
+        continue;
+    }
+    const JointModel reduced = fit_joint_model(config, data, without, &current.model);
+    if (!reduced.ok) continue;
+    const double lr = detail::likelihood_ratio(reduced, current.model);
+    if (stats::chi2_sf(std::max(lr, 0.0), 1.0) < options.structural_p) continue;
+    const AddedCause dropped = d.added[i];
+    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
+    current.model = reduced;
+    current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+    current.identification = residuals(current.model, data, false);
+    // The steps still add up to the total: the next step starts where the dropped one did, the last ends here.
+    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
+    if (!d.added.empty()) {
+      d.added.back().fit_after = current.fit;
+      d.added.back().ljung_box_after = current.identification.whiteness.statistic;
+    }
+  }
+}
+
 // Forward selection. Each round adds, among the supported structural candidates (every structural cause, and the
 // other operator type), the one that simulates val best (the likelihood ratio alone prefers an input lag with its
 // flexible borders over a true dead time), and refits the others on top of it. When no single one is supported,
@@ -228,6 +269,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     if (options.instrumental_check && !round.empty()) update_instrumental();
   }
   refine_input_lag(d, current, config, data, options);
+  drop_unneeded_causes(d, current, config, data, options);
   const ResidualAnalysis& left = current.identification;
   const double correlation = left.samples > 0 ? left.whiteness.statistic / static_cast<double>(left.samples) : 0.0;
   if (!white(left, options) && correlation >= options.coloured_correlation) {

@@ -103,6 +103,9 @@ struct DiagnosisOptions {
   /// (least squares' RSS, biased by a coloured disturbance, picks one sample too many); the RSS where every IV fit
   /// fails.
   bool delay_by_simulation = true;
+  /// After the forward selection, a structural cause whose removal from the final model is not significant
+  /// (structural_p) is dropped.
+  bool backward_elimination = true;
   /// colored_noise also needs the identification residuals' squared autocorrelations (lags 1..20, i.e. Ljung-Box
   /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
   /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
