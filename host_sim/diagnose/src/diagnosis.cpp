@@ -66,7 +66,12 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
   // Like is compared with like: the extension counts with its own IV fit where that is better (a real dead time
   // next to coloured noise: least squares biases its val fit, IV does not).
   const double extended = best_fit(c.fit_val, c.fit_instrumental);
-  const bool beats_instrumental = !options.instrumental_check || extended > current.fit_instrumental;
+  // An input lag whose lambda was chosen on val (the finer border tables) has a val fit flattered by that choice:
+  // it must beat the IV fit by options.lag_val_optimism.
+  const bool lambda_on_val = c.cause == Cause::kInputLag && c.model.structure.border_segments > 1;
+  const bool beats_instrumental =
+      !options.instrumental_check ||
+      extended > current.fit_instrumental + (lambda_on_val ? options.lag_val_optimism : 0.0);
   // The large val gain may also be the IV fits' (a drift under sensor noise: least squares gained 2.5 to 4.8 points
   // on tuning seeds 1030, 1036 and 1039 of sensor_drift+colored_noise, its IV fit more than 5 over the nominal IV).
   const double like_gain = options.instrumental_ranking ? extended - std::max(current.fit, current.fit_instrumental)
