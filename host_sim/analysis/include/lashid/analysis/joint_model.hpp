@@ -12,7 +12,9 @@
 // u~ = 0) and C_a(v_min) = C_d(v_min) = u_m. Unknowns: a, the n x (2m-1) products b_i c_k (the paper's
 // over-parametrisation, (3.21)), kappa0 = B(1) u_M [+ A(1) offset], and, with drift, kappa1. Least squares (or
 // instrumental variables) gives them; b and c are recovered by the best rank-1 factorisation, scaled as (3.11c):
-// C~_d(v_min) = u_m - u_M = -1. With a white equation error and the nominal structure this is the same estimator
+// C~_d(v_min) = u_m - u_M = -1. With finer border tables (border_segments > 1) and n >= 2, least squares is
+// then restricted to rank one (Gauss-Newton steps, joint_model_solve.cpp): there the unrestricted products amount
+// to n free borders, and their fit says little about the rank-1 model that is simulated. With a white equation error and the nominal structure this is the same estimator
 // as the paper's; the extensions change w (input lag, dead time), add a regressor (drift) or the estimator (IV).
 #pragma once
 
