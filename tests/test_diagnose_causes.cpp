@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <vector>
 
@@ -90,6 +92,14 @@ void expect_diagnosed(const HiddenEffectCase& c) {
   expect_found(c, d);
 }
 
+// expect_diagnosed on the curved-border case of `hidden` for each seed.
+void expect_diagnosed_on_seeds(std::span<const Cause> hidden, std::initializer_list<std::uint64_t> seeds) {
+  for (std::uint64_t seed : seeds) {
+    SCOPED_TRACE(::testing::Message() << "seed " << seed);
+    expect_diagnosed(curved_case(hidden, seed));
+  }
+}
+
 // Borders curved between the levels (tanh and sine terms): the causes docs/diagnose.md reports at 100 % on the
 // tuning seeds. input_lag and colored_noise are below that there, so a single seed would test luck, not the rate.
 TEST(DiagnoseCurvedBorders, FindsTheCausesTheDocsReportAtFullRate) {
@@ -117,10 +127,7 @@ TEST(DiagnosePairs, NamesBothHiddenCausesOnCurvedBorders) {
 // variables simulates val better than either (84.4 % and 80.3 %).
 TEST(DiagnoseMechanisms, TheIvCheckKeepsAStructureFromAbsorbingSensorNoise) {
   const std::array<Cause, 1> hidden{Cause::kColoredNoise};
-  for (std::uint64_t seed : {1005U, 1015U}) {
-    SCOPED_TRACE(::testing::Message() << "seed " << seed);
-    expect_diagnosed(curved_case(hidden, seed));
-  }
+  expect_diagnosed_on_seeds(hidden, {1005, 1015});
 }
 
 // A drift behind an unmodelled input lag: against the nominal model its likelihood ratio is 3 (seed 1012) and 2
@@ -128,10 +135,7 @@ TEST(DiagnoseMechanisms, TheIvCheckKeepsAStructureFromAbsorbingSensorNoise) {
 // candidate, the drift is found with the lag (without this, the diagnosis answered colored_noise on both).
 TEST(DiagnoseMechanisms, ADriftHiddenBehindAnInputLagIsFoundWithIt) {
   const std::array<Cause, 2> hidden{Cause::kInputLag, Cause::kSensorDrift};
-  for (std::uint64_t seed : {1012U, 1021U}) {
-    SCOPED_TRACE(::testing::Message() << "seed " << seed);
-    expect_diagnosed(curved_case(hidden, seed));
-  }
+  expect_diagnosed_on_seeds(hidden, {1012, 1021});
 }
 
 // The lambda path: behind this backlash (seed 1020, true lambda 0.425) the fit started from the nominal model's
@@ -150,10 +154,7 @@ TEST(DiagnoseMechanisms, TheLambdaPathFindsTheLagBehindABacklash) {
 // 1011); the delay whose instrumental-variable refit simulates the identification phases best is the true one.
 TEST(DiagnoseMechanisms, TheDelayUnderSensorNoiseIsTheOneItsIvModelSimulatesBest) {
   const std::array<Cause, 2> hidden{Cause::kDeadTime, Cause::kColoredNoise};
-  for (std::uint64_t seed : {1001U, 1011U}) {
-    SCOPED_TRACE(::testing::Message() << "seed " << seed);
-    expect_diagnosed(curved_case(hidden, seed));
-  }
+  expect_diagnosed_on_seeds(hidden, {1001, 1011});
 }
 
 // Like with like: under sensor noise a drift's least-squares val gain is below the 5 points that stand in for
@@ -165,13 +166,13 @@ TEST(DiagnoseMechanisms, CandidatesAreJudgedByTheBetterOfTheirLeastSquaresAndIvF
   without.instrumental_ranking = false;
   const std::array<Cause, 2> drift{Cause::kSensorDrift, Cause::kColoredNoise};
   const std::array<Cause, 2> dead{Cause::kDeadTime, Cause::kColoredNoise};
-  for (std::uint64_t seed : {1036U, 1039U}) {
-    SCOPED_TRACE(::testing::Message() << "sensor_drift+colored_noise seed " << seed);
-    expect_diagnosed(curved_case(drift, seed));
+  {
+    SCOPED_TRACE("sensor_drift+colored_noise");
+    expect_diagnosed_on_seeds(drift, {1036, 1039});
   }
   {
-    SCOPED_TRACE("dead_time+colored_noise seed 1036");
-    expect_diagnosed(curved_case(dead, 1036));
+    SCOPED_TRACE("dead_time+colored_noise");
+    expect_diagnosed_on_seeds(dead, {1036});
   }
   // Without the mechanism the drift is missed: the same data, only colored_noise.
   const HiddenEffectCase c = curved_case(drift, 1039);
@@ -184,10 +185,7 @@ TEST(DiagnoseMechanisms, CandidatesAreJudgedByTheBetterOfTheirLeastSquaresAndIvF
 // (seed 1019), and the lag was not found.
 TEST(DiagnoseMechanisms, ALagAddedAfterADriftIsSearchedOverItsWholeRange) {
   const std::array<Cause, 2> hidden{Cause::kInputLag, Cause::kSensorDrift};
-  for (std::uint64_t seed : {1007U, 1019U}) {
-    SCOPED_TRACE(::testing::Message() << "seed " << seed);
-    expect_diagnosed(curved_case(hidden, seed));
-  }
+  expect_diagnosed_on_seeds(hidden, {1007, 1019});
 }
 
 // The rank-1 least-squares fit of the finer border tables: with the over-parametrised products and their

@@ -52,8 +52,9 @@ constexpr double kRankOneTolerance = 0.01;
 // full ones' entries (c'_0 stays fixed: the scale of b c' is free). A step that does not lower the objective ends
 // the iteration. The paper's over-parametrisation (3.21) then its best rank-1 factorisation is not the
 // least-squares rank-1 model once the products have many border columns (n >= 2 with the finer tables): its RSS
-// is that of n free borders, and the factorised model's can be far larger. Returns false if the first step fails.
-bool refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
+// is that of n free borders, and the factorised model's can be far larger. If a step's system is singular, theta
+// stays the unrestricted solution.
+void refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
                      int n, int P, double yy, std::size_t rows, Eigen::VectorXd& theta) {
   const double relative_tolerance = kRankOneTolerance / static_cast<double>(rows);
   const Eigen::Index cols = theta.size();
@@ -116,7 +117,7 @@ bool refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const
         terms[q][0] = {2 * n + kept_c + (j - first_extra), 1.0};
       }
     }
-    // T' zx T x = T' (zy + zx offset): W = zx T column by column, then M = T' W row by row.
+    // T' zx T x = T' (zy + zx offset): W = zx T, then M = T' W, each a column at a time.
     const Eigen::VectorXd rhs_full = zy + zx * offset;
     Eigen::MatrixXd W = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(keep.size()), R);
     for (std::size_t q = 0; q < keep.size(); ++q) {
@@ -146,7 +147,7 @@ bool refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const
     }
     std::string failure;
     const std::optional<Eigen::VectorXd> x = solve_normal_equations(M, g, false, failure);
-    if (!x) return iteration > 0;
+    if (!x) return;  // theta stays the unrestricted solution, even after earlier steps succeeded
     Eigen::VectorXd next = theta;
     for (int i = 0; i < n; ++i) next(i) = (*x)(i);
     for (Eigen::Index j = first_extra; j < cols; ++j) next(j) = (*x)(2 * n + kept_c + (j - first_extra));
@@ -166,7 +167,6 @@ bool refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const
     if (converged) break;
   }
   theta = best;
-  return true;
 }
 
 }  // namespace lashid::sim::detail

@@ -83,6 +83,41 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
   return explains && val_gain > options.min_val_gain && beats_instrumental;
 }
 
+// `model` becomes the current model, with its val simulation and identification residuals.
+void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, const FlatRecording& data) {
+  current.model = model;
+  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.identification = residuals(current.model, data, false);
+}
+
+// The last step ends at the current model (after a change made once the selection is done), so that the steps
+// still add up to the total gain.
+void end_last_step_here(Diagnosis& d, const CurrentModel& current) {
+  if (d.added.empty()) return;
+  d.added.back().fit_after = current.fit;
+  d.added.back().ljung_box_after = current.identification.whiteness.statistic;
+}
+
+// The structure without `cause` (an input lag goes with its finer border tables); the same structure for a cause
+// that is not structural.
+ModelStructure without_cause(ModelStructure s, Cause cause) {
+  switch (cause) {
+    case Cause::kSensorDrift:
+      s.drift = false;
+      break;
+    case Cause::kDeadTime:
+      s.delay = 0;
+      break;
+    case Cause::kInputLag:
+      s.input_lag = 0;
+      s.border_segments = 1;
+      break;
+    default:
+      break;
+  }
+  return s;
+}
+
 void accept(Diagnosis& d, CurrentModel& current, const CandidateCause& c, const FlatRecording& data) {
   AddedCause added;
   added.cause = c.cause;
@@ -90,9 +125,7 @@ void accept(Diagnosis& d, CurrentModel& current, const CandidateCause& c, const 
   added.likelihood_ratio = c.cause == Cause::kColoredNoise ? 0.0 : c.likelihood_ratio;
   added.fit_before = current.fit;
   added.ljung_box_before = current.identification.whiteness.statistic;
-  current.model = c.model;
-  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
-  current.identification = residuals(current.model, data, false);
+  adopt(current, c.model, d, data);
   added.fit_after = current.fit;
   added.ljung_box_after = current.identification.whiteness.statistic;
   d.added.push_back(std::move(added));
@@ -113,10 +146,8 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   const auto lag = std::find_if(d.added.begin(), d.added.end(),
                                 [](const AddedCause& a) { return a.cause == Cause::kInputLag; });
   if (lag == d.added.end() || std::next(lag) == d.added.end()) return;
-  ModelStructure without_lag = current.model.structure;
-  without_lag.input_lag = 0;
-  without_lag.border_segments = 1;
-  const JointModel base = fit_joint_model(config, data, without_lag, &current.model);
+  const JointModel base =
+      fit_joint_model(config, data, without_cause(current.model.structure, Cause::kInputLag), &current.model);
   if (!base.ok) return;
   const CandidateCause refit = extend_model(config, data, base, Cause::kInputLag, options);
   if (!refit.model.ok) return;
@@ -128,9 +159,7 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   current.fit = fit;
   current.val_simulation = std::move(simulated);
   current.identification = residuals(current.model, data, false);
-  // The last step's gain now includes the re-searched lambda, so that the steps still add up to the total gain.
-  d.added.back().fit_after = current.fit;
-  d.added.back().ljung_box_after = current.identification.whiteness.statistic;
+  end_last_step_here(d, current);  // the last step's gain includes the re-searched lambda
 }
 
 // Backward elimination once the forward selection is done: a structural cause that the final model no longer
@@ -141,36 +170,19 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
                           const FlatRecording& data, const DiagnosisOptions& options) {
   if (!options.backward_elimination) return;
   for (std::size_t i = d.added.size(); i-- > 0;) {
-    ModelStructure without = current.model.structure;
-    switch (d.added[i].cause) {
-      case Cause::kSensorDrift:
-        without.drift = false;
-        break;
-      case Cause::kDeadTime:
-        without.delay = 0;
-        break;
-      case Cause::kInputLag:
-        without.input_lag = 0;
-        without.border_segments = 1;
-        break;
-      default:
-        continue;
-    }
-    const JointModel reduced = fit_joint_model(config, data, without, &current.model);
+    const Cause cause = d.added[i].cause;
+    if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
+    const JointModel reduced =
+        fit_joint_model(config, data, without_cause(current.model.structure, cause), &current.model);
     if (!reduced.ok) continue;
     const double lr = detail::likelihood_ratio(reduced, current.model);
     if (stats::chi2_sf(std::max(lr, 0.0), 1.0) < options.structural_p) continue;
     const AddedCause dropped = d.added[i];
     d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
-    current.model = reduced;
-    current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
-    current.identification = residuals(current.model, data, false);
+    adopt(current, reduced, d, data);
     // The steps still add up to the total: the next step starts where the dropped one did, the last ends here.
     if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
-    if (!d.added.empty()) {
-      d.added.back().fit_after = current.fit;
-      d.added.back().ljung_box_after = current.identification.whiteness.statistic;
-    }
+    end_last_step_here(d, current);
   }
 }
 

@@ -14,8 +14,9 @@
 // instrumental variables) gives them; b and c are recovered by the best rank-1 factorisation, scaled as (3.11c):
 // C~_d(v_min) = u_m - u_M = -1. With finer border tables (border_segments > 1) and n >= 2, least squares is
 // then restricted to rank one (Gauss-Newton steps, joint_model_solve.cpp): there the unrestricted products amount
-// to n free borders, and their fit says little about the rank-1 model that is simulated. With a white equation error and the nominal structure this is the same estimator
-// as the paper's; the extensions change w (input lag, dead time), add a regressor (drift) or the estimator (IV).
+// to n free borders, and their fit says little about the rank-1 model that is simulated. With a white equation
+// error and the nominal structure this is the same estimator as the paper's; the extensions change w (input lag,
+// dead time), add a regressor (drift) or the estimator (IV).
 #pragma once
 
 #include <cstddef>
