@@ -27,6 +27,11 @@ double val_fit(const JointModel& model, const FlatRecording& data, std::size_t b
 
 double sse(std::span<const double> a, std::span<const double> b);
 
+/// `current` extended by an input lag: lambda over its range, with borders linear between the levels or finer
+/// (input_lag_search.cpp).
+JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            const DiagnosisOptions& options);
+
 /// `current` extended by `cause` (its parameter searched: lambda over a grid, by RSS with borders linear between
 /// the levels or by val with finer borders, see search_input_lag; the delay over 1..max_delay), fitted on the
 /// identification phases. Lambda is searched over its whole range in every round: a lag searched on top of a drift

@@ -120,6 +120,9 @@ struct DiagnosisOptions {
   /// The fine input-lag model's lambda is the one that simulates val best among those whose likelihood ratio
   /// against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
   double lag_val_window = 200.0;
+  /// The fine input-lag model's lambda is cross-validated within val (two folds, each trained on the
+  /// identification phases and one half of val, scored on the other half) instead of lag_val_window's rule.
+  bool lag_cross_validation = true;
   /// The fine input-lag model is also used, BIC aside, when it simulates val this many points better.
   double lag_fine_val_gain = 1.0;
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid

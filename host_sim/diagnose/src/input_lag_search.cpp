@@ -1,0 +1,226 @@
+// The input lag's lambda and its border model (search_input_lag, diagnosis_candidates.hpp).
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "diagnosis_candidates.hpp"
+
+namespace lashid::sim::detail {
+
+namespace {
+
+double rss_or_infinity(const JointModel& m) { return m.ok ? m.rss : std::numeric_limits<double>::infinity(); }
+
+// Golden-section search of lambda in [a, b] at a given border resolution; returns the best fit seen (or `best`).
+template <class Fit>
+JointModel golden_lambda(Fit fit, double a, double b, int iterations, JointModel best) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int it = 0; it < iterations; ++it) {
+    const double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    JointModel m1 = fit(x1), m2 = fit(x2);
+    const double r1 = rss_or_infinity(m1), r2 = rss_or_infinity(m2);
+    if (r1 < r2) {
+      b = x2;
+      if (r1 < rss_or_infinity(best)) best = std::move(m1);
+    } else {
+      a = x1;
+      if (r2 < rss_or_infinity(best)) best = std::move(m2);
+    }
+  }
+  return best;
+}
+
+// Cross-validation within val: fold k is trained on the identification phases and one half of val (relabelled as
+// identification data) and scored by simulating the other half.
+struct ValFolds {
+  std::array<FlatRecording, 2> train;
+  std::array<std::pair<std::size_t, std::size_t>, 2> held_out;
+};
+
+ValFolds val_folds(const FlatRecording& data, std::pair<std::size_t, std::size_t> val) {
+  const std::size_t mid = val.first + (val.second - val.first) / 2;
+  ValFolds f{{data, data}, {std::pair{mid, val.second}, std::pair{val.first, mid}}};
+  for (std::size_t t = val.first; t < mid; ++t) f.train[0].phase[t] = Phase::kAis;
+  for (std::size_t t = mid; t < val.second; ++t) f.train[1].phase[t] = Phase::kAis;
+  return f;
+}
+
+// The two folds' simulation fit on their held-out halves, pooled: 100 (1 - sqrt(sum SSE / sum SST)), each half's
+// SST about its own mean; -infinity if a fold fails or its simulation diverges. Each fold starts from `start`'s
+// regimes.
+template <class Fit>
+double cross_validated_fit(Fit fit, double lambda, const JointModel& start, const ValFolds& folds,
+                           const FlatRecording& data) {
+  double error = 0, total = 0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const JointModel m = fit(lambda, &start, folds.train[k]);
+    if (!m.ok) return -std::numeric_limits<double>::infinity();
+    const auto [begin, end] = folds.held_out[k];
+    const std::vector<double> sim = simulate_segment(m, data, begin, end);
+    double mean = 0;
+    for (std::size_t t = begin; t < end; ++t) mean += data.y[t];
+    mean /= static_cast<double>(end - begin);
+    for (std::size_t t = begin; t < end; ++t) {
+      const double e = data.y[t] - sim[t - begin];
+      if (!std::isfinite(e)) return -std::numeric_limits<double>::infinity();
+      error += e * e;
+      total += (data.y[t] - mean) * (data.y[t] - mean);
+    }
+  }
+  return total > 0 ? 100.0 * (1.0 - std::sqrt(error / total)) : -std::numeric_limits<double>::infinity();
+}
+
+// One fit per lambda along a path: each starts from the previous lambda's regimes (continuation) and, for a
+// backlash, also from `current`'s, keeping the lower RSS. Started from `current` alone, a backlash's regime
+// iteration ends in a poor fixed point at some lambdas (RSS 3 to 50 times the neighbours' on tuning seeds).
+// With `folds`, every point is also cross-validated within val (from its own model's regimes).
+struct LagPath {
+  std::vector<double> lambda;
+  std::vector<JointModel> model;
+  std::vector<double> fit_val;
+  std::vector<double> fit_cross;
+};
+
+template <class Fit>
+LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<double>& lambdas, const FlatRecording& data,
+                     std::pair<std::size_t, std::size_t> val, bool two_starts, const ValFolds* folds) {
+  LagPath path;
+  const JointModel* previous = &current;
+  for (double lambda : lambdas) {
+    JointModel m = fit(lambda, previous, data);
+    if (two_starts && previous != &current && current.structure.op == OperatorKind::kBacklash) {
+      JointModel again = fit(lambda, &current, data);
+      if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
+    }
+    if (!m.ok) continue;
+    path.lambda.push_back(lambda);
+    path.fit_val.push_back(val_fit(m, data, val.first, val.second));
+    path.fit_cross.push_back(folds != nullptr ? cross_validated_fit(fit, lambda, m, *folds, data)
+                                              : -std::numeric_limits<double>::infinity());
+    path.model.push_back(std::move(m));
+    previous = &path.model.back();
+  }
+  return path;
+}
+
+std::size_t best_rss(const LagPath& p) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < p.model.size(); ++i) {
+    if (p.model[i].rss < p.model[best].rss) best = i;
+  }
+  return best;
+}
+
+// The lambda whose model simulates val best among those the identification phases do not reject: N ln(RSS /
+// min_rss) <= window.
+std::size_t best_val(const LagPath& p, double min_rss, double window) {
+  std::size_t best = p.model.size();
+  for (std::size_t i = 0; i < p.fit_val.size(); ++i) {
+    const double lr = static_cast<double>(p.model[i].rows) * std::log(p.model[i].rss / min_rss);
+    if (lr <= window && (best == p.model.size() || p.fit_val[i] > p.fit_val[best])) best = i;
+  }
+  return best;
+}
+
+// The lambda with the best cross-validated fit within val; p.model.size() if none is finite.
+std::size_t best_cross(const LagPath& p) {
+  std::size_t best = p.model.size();
+  for (std::size_t i = 0; i < p.fit_cross.size(); ++i) {
+    if (std::isfinite(p.fit_cross[i]) && (best == p.model.size() || p.fit_cross[i] > p.fit_cross[best])) best = i;
+  }
+  return best;
+}
+
+}  // namespace
+
+// Input lag. Two border models:
+// - coarse: borders linear between the experiment's abscissas; RSS(lambda) on a 0.05 grid, then golden section
+//   (+-0.05). On borders linear between the levels it is exact and pins lambda sharply.
+// - fine: options.lag_border_segments points per interval, held smooth by a prior where the data are thin. The lag
+//   moves the operator's input between the levels, where a real border is curved, so lambda needs a border model
+//   that is right there; but with a flexible border the identification phases barely tell lambda apart (every
+//   pulse starts from the same extreme level: a different lambda and a reshaped border give the same outputs; the
+//   RSS profile is flat to 1 % over +-0.15 on curved tuning seeds, and its minimum is biased upward). The val
+//   phase, whose moves join every pair of levels, does tell them apart: lambda is the one whose model simulates
+//   val best, on a 0.05 grid and then a 0.01 grid (+-0.02) around it.
+// The fine model is used if BIC prefers it at its RSS minimum (N ln(RSS_coarse / RSS_fine) > extra parameters x
+// ln N) or if it simulates val more than options.lag_fine_val_gain points better than the coarse one; otherwise
+// the coarse model (on borders linear between the levels it is exact and pins lambda better).
+JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
+                            const DiagnosisOptions& options) {
+  const auto fit_with = [&](int segments) {
+    return [&, segments](double lambda, const JointModel* start, const FlatRecording& on) {
+      ModelStructure s = current.structure;
+      s.border_smoothness = options.lag_border_smoothness;
+      s.input_lag = lambda;
+      s.border_segments = segments;
+      return fit_joint_model(config, on, s, start, true);
+    };
+  };
+  const auto coarse = fit_with(1);
+  const auto fine = fit_with(options.lag_border_segments);
+  const double max_lag = options.max_input_lag;
+  std::vector<double> grid;
+  for (double lambda = 0.05; lambda <= max_lag + 1e-9; lambda += 0.05) grid.push_back(lambda);
+  JointModel best_coarse;
+  double grid_lambda = 0;
+  for (double lambda : grid) {
+    JointModel m = coarse(lambda, &current, data);
+    if (m.ok && m.rss < rss_or_infinity(best_coarse)) {
+      best_coarse = std::move(m);
+      grid_lambda = lambda;
+    }
+  }
+  if (!best_coarse.ok) return current;
+  // The coarse model's golden section only where the coarse model is the answer (every fit costs about the same:
+  // building the normal equations dominates, whatever the border resolution).
+  const auto refined_coarse = [&]() {
+    return golden_lambda([&](double l) { return coarse(l, &current, data); }, std::max(grid_lambda - 0.05, 0.0),
+                         std::min(grid_lambda + 0.05, max_lag), options.golden_iterations, best_coarse);
+  };
+  if (options.lag_border_segments <= 1) return refined_coarse();
+  const auto val = val_range(data);
+  const bool cross = options.lag_cross_validation && !std::getenv("LX_NOCV");
+  const ValFolds folds = val_folds(data, val);
+  const ValFolds* use_folds = cross ? &folds : nullptr;
+  const LagPath path = fit_lag_path(fine, current, grid, data, val, true, use_folds);
+  if (path.model.empty()) return refined_coarse();
+  const JointModel& fine_rss = path.model[best_rss(path)];
+  const double samples = static_cast<double>(best_coarse.rows);
+  const double gain = samples * std::log(best_coarse.rss / fine_rss.rss);
+  const double cost = static_cast<double>(fine_rss.parameters - best_coarse.parameters) * std::log(samples);
+  const double min_rss = fine_rss.rss;
+  std::size_t at = cross ? best_cross(path) : best_val(path, min_rss, options.lag_val_window);
+  if (at == path.model.size()) at = best_val(path, min_rss, options.lag_val_window);
+  const double coarse_val = val_fit(best_coarse, data, val.first, val.second);
+  if (!(gain > cost) && !(path.fit_val[at] > coarse_val + options.lag_fine_val_gain)) return refined_coarse();
+  std::vector<double> local;
+  for (int k = -2; k <= 2; ++k) {
+    const double lambda = path.lambda[at] + 0.01 * k;
+    if (k != 0 && lambda > 0.0 && lambda <= max_lag) local.push_back(lambda);
+  }
+  const LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false, use_folds);
+  if (cross) {
+    const std::size_t near_at = best_cross(near);
+    const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
+    JointModel chosen = on_path ? path.model[at] : near.model[near_at];
+    if (std::getenv("LX_RESTART")) {
+      // The folds' regimes, whose borders val's data help to determine, may be a better start.
+      for (std::size_t k = 0; k < 2; ++k) {
+        const JointModel fold = fine(chosen.structure.input_lag, &chosen, folds.train[k]);
+        if (!fold.ok) continue;
+        JointModel again = fine(chosen.structure.input_lag, &fold, data);
+        if (again.ok && again.rss < chosen.rss) chosen = std::move(again);
+      }
+    }
+    return chosen;
+  }
+  const std::size_t near_at = best_val(near, min_rss, options.lag_val_window);
+  if (near_at == near.model.size() || near.fit_val[near_at] <= path.fit_val[at]) return path.model[at];
+  return near.model[near_at];
+}
+
+}  // namespace lashid::sim::detail
