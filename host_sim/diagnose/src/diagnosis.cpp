@@ -1,9 +1,11 @@
 #include "lashid/diagnose/diagnosis.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <future>
 #include <iterator>
 #include <limits>
 #include <stdexcept>
@@ -23,6 +25,25 @@ using detail::residuals;
 using detail::score_candidate;
 using detail::sse;
 using detail::val_fit;
+
+// One candidate per cause, in order; the input lag's on a second thread (its search costs about as much as all the
+// others together). The answers do not depend on it.
+std::vector<CandidateCause> candidates_for(const std::vector<Cause>& causes,
+                                           const std::function<CandidateCause(Cause)>& make) {
+  std::vector<CandidateCause> out(causes.size());
+  std::future<CandidateCause> lag;
+  const auto is_lag = [&](std::size_t i) { return causes[i] == Cause::kInputLag; };
+  for (std::size_t i = 0; i < causes.size(); ++i) {
+    if (is_lag(i)) lag = std::async(std::launch::async, make, causes[i]);
+  }
+  for (std::size_t i = 0; i < causes.size(); ++i) {
+    if (!is_lag(i)) out[i] = make(causes[i]);
+  }
+  for (std::size_t i = 0; i < causes.size(); ++i) {
+    if (is_lag(i)) out[i] = lag.get();
+  }
+  return out;
+}
 
 // The recording must hold all five phases, match the config, and give the residual tests enough val samples.
 void check_diagnosable(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
@@ -278,12 +299,13 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
       added.push_back(Cause::kOperatorType);
       accept(d, current, *flipped, data);
     }
-    std::vector<CandidateCause> next;
+    std::vector<Cause> remaining;
     for (const CandidateCause& c : round) {
-      if (std::find(added.begin(), added.end(), c.cause) != added.end()) continue;
-      next.push_back(refit(c.cause, current.model, current.model, current.val_simulation));
+      if (std::find(added.begin(), added.end(), c.cause) == added.end()) remaining.push_back(c.cause);
     }
-    round = std::move(next);
+    round = candidates_for(remaining, [&](Cause cause) {
+      return refit(cause, current.model, current.model, current.val_simulation);
+    });
     if (options.instrumental_check && !round.empty()) update_instrumental();
   }
   refine_input_lag(d, current, config, data, options);
@@ -360,12 +382,15 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
   const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
 
   // Every cause against the nominal model (the evidence the report shows), then the forward selection.
+  std::vector<Cause> causes;
   for (Cause cause : kAllCauses) {
-    if (cause == Cause::kNone) continue;
+    if (cause != Cause::kNone) causes.push_back(cause);
+  }
+  d.candidates = candidates_for(causes, [&](Cause cause) {
     CandidateCause c = extend_model(config, data, d.nominal, cause, options);
     score_candidate(c, d.nominal, d.val_nominal, data, d.val_begin, d.val_end, options);
-    d.candidates.push_back(std::move(c));
-  }
+    return c;
+  });
   select_causes(d, config, data, options);
   d.causes.clear();
   for (const AddedCause& a : d.added) d.causes.push_back(a.cause);

@@ -1,12 +1,15 @@
 // The input lag's lambda and its border model (search_input_lag, diagnosis_candidates.hpp).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <future>
 #include <limits>
 #include <utility>
 #include <vector>
 
 #include "diagnosis_candidates.hpp"
+#include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim::detail {
 
@@ -48,35 +51,36 @@ ValFolds val_folds(const FlatRecording& data, std::pair<std::size_t, std::size_t
   return f;
 }
 
-// The two folds' simulation fit on their held-out halves, pooled: 100 (1 - sqrt(sum SSE / sum SST)), each half's
-// SST about its own mean; -infinity if a fold fails or its simulation diverges. Each fold starts from `start`'s
-// regimes.
+// Fold k's simulation error on its held-out half and that half's energy about its own mean; {inf, 1} if the fold
+// fails or its simulation diverges. The fold starts from `start`'s regimes.
+struct HeldOutError {
+  double error = std::numeric_limits<double>::infinity();
+  double total = 1.0;
+};
+
 template <class Fit>
-double cross_validated_fit(Fit fit, double lambda, const JointModel& start, const ValFolds& folds,
-                           const FlatRecording& data) {
-  double error = 0, total = 0;
-  for (std::size_t k = 0; k < 2; ++k) {
-    const JointModel m = fit(lambda, &start, folds.train[k]);
-    if (!m.ok) return -std::numeric_limits<double>::infinity();
-    const auto [begin, end] = folds.held_out[k];
-    const std::vector<double> sim = simulate_segment(m, data, begin, end);
-    double mean = 0;
-    for (std::size_t t = begin; t < end; ++t) mean += data.y[t];
-    mean /= static_cast<double>(end - begin);
-    for (std::size_t t = begin; t < end; ++t) {
-      const double e = data.y[t] - sim[t - begin];
-      if (!std::isfinite(e)) return -std::numeric_limits<double>::infinity();
-      error += e * e;
-      total += (data.y[t] - mean) * (data.y[t] - mean);
-    }
+HeldOutError held_out_error(Fit fit, double lambda, const JointModel& start, const ValFolds& folds, std::size_t k,
+                            const FlatRecording& data) {
+  const JointModel m = fit(lambda, &start, folds.train[k]);
+  if (!m.ok) return {};
+  const auto [begin, end] = folds.held_out[k];
+  const std::vector<double> sim = simulate_segment(m, data, begin, end);
+  double mean = 0;
+  for (std::size_t t = begin; t < end; ++t) mean += data.y[t];
+  mean /= static_cast<double>(end - begin);
+  HeldOutError h{0.0, 0.0};
+  for (std::size_t t = begin; t < end; ++t) {
+    const double e = data.y[t] - sim[t - begin];
+    if (!std::isfinite(e)) return {};
+    h.error += e * e;
+    h.total += (data.y[t] - mean) * (data.y[t] - mean);
   }
-  return total > 0 ? 100.0 * (1.0 - std::sqrt(error / total)) : -std::numeric_limits<double>::infinity();
+  return h;
 }
 
 // One fit per lambda along a path: each starts from the previous lambda's regimes (continuation) and, for a
 // backlash, also from `current`'s, keeping the lower RSS. Started from `current` alone, a backlash's regime
 // iteration ends in a poor fixed point at some lambdas (RSS 3 to 50 times the neighbours' on tuning seeds).
-// With `folds`, every point is also cross-validated within val (from its own model's regimes).
 struct LagPath {
   std::vector<double> lambda;
   std::vector<JointModel> model;
@@ -86,7 +90,7 @@ struct LagPath {
 
 template <class Fit>
 LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<double>& lambdas, const FlatRecording& data,
-                     std::pair<std::size_t, std::size_t> val, bool two_starts, const ValFolds* folds) {
+                     std::pair<std::size_t, std::size_t> val, bool two_starts) {
   LagPath path;
   const JointModel* previous = &current;
   for (double lambda : lambdas) {
@@ -98,8 +102,7 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
     if (!m.ok) continue;
     path.lambda.push_back(lambda);
     path.fit_val.push_back(val_fit(m, data, val.first, val.second));
-    path.fit_cross.push_back(folds != nullptr ? cross_validated_fit(fit, lambda, m, *folds, data)
-                                              : -std::numeric_limits<double>::infinity());
+    path.fit_cross.push_back(-std::numeric_limits<double>::infinity());
     path.model.push_back(std::move(m));
     previous = &path.model.back();
   }
@@ -132,6 +135,26 @@ std::size_t best_cross(const LagPath& p) {
     if (std::isfinite(p.fit_cross[i]) && (best == p.model.size() || p.fit_cross[i] > p.fit_cross[best])) best = i;
   }
   return best;
+}
+
+// Every point of the path cross-validated within val (each fold from the point's own model's regimes): the pooled
+// simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of energies)). The two folds run on
+// two threads; the result does not depend on it.
+template <class Fit>
+void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data) {
+  const std::size_t count = path.model.size();
+  std::vector<HeldOutError> second(count);
+  auto other = std::async(std::launch::async, [&] {
+    for (std::size_t i = 0; i < count; ++i) second[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 1, data);
+  });
+  std::vector<HeldOutError> first(count);
+  for (std::size_t i = 0; i < count; ++i) first[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 0, data);
+  other.get();
+  for (std::size_t i = 0; i < count; ++i) {
+    const double error = first[i].error + second[i].error, total = first[i].total + second[i].total;
+    path.fit_cross[i] = std::isfinite(error) && total > 0 ? 100.0 * (1.0 - std::sqrt(error / total))
+                                                          : -std::numeric_limits<double>::infinity();
+  }
 }
 
 }  // namespace
@@ -183,11 +206,16 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   };
   if (options.lag_border_segments <= 1) return refined_coarse();
   const auto val = val_range(data);
-  const bool cross = options.lag_cross_validation && !std::getenv("LX_NOCV");
-  const ValFolds folds = val_folds(data, val);
-  const ValFolds* use_folds = cross ? &folds : nullptr;
-  const LagPath path = fit_lag_path(fine, current, grid, data, val, true, use_folds);
+  LagPath path = fit_lag_path(fine, current, grid, data, val, true);
   if (path.model.empty()) return refined_coarse();
+  // Cross-validation only where the lag can matter: if no lambda's fit is significant against `current`, the
+  // candidate is rejected whatever lambda it has (this keeps the lag's search as cheap as before for the other
+  // causes, where it is a candidate in every round).
+  const double best_ratio = likelihood_ratio(current, path.model[best_rss(path)]);
+  const bool cross = options.lag_cross_validation && !std::getenv("LX_NOCV") &&
+                     stats::chi2_sf(std::max(best_ratio, 0.0), 1.0) < options.structural_p;
+  const ValFolds folds = val_folds(data, val);
+  if (cross) cross_validate(fine, path, folds, data);
   const JointModel& fine_rss = path.model[best_rss(path)];
   const double samples = static_cast<double>(best_coarse.rows);
   const double gain = samples * std::log(best_coarse.rss / fine_rss.rss);
@@ -202,18 +230,26 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
     const double lambda = path.lambda[at] + 0.01 * k;
     if (k != 0 && lambda > 0.0 && lambda <= max_lag) local.push_back(lambda);
   }
-  const LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false, use_folds);
+  LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false);
+  if (cross) cross_validate(fine, near, folds, data);
   if (cross) {
     const std::size_t near_at = best_cross(near);
     const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
     JointModel chosen = on_path ? path.model[at] : near.model[near_at];
-    if (std::getenv("LX_RESTART")) {
-      // The folds' regimes, whose borders val's data help to determine, may be a better start.
-      for (std::size_t k = 0; k < 2; ++k) {
-        const JointModel fold = fine(chosen.structure.input_lag, &chosen, folds.train[k]);
-        if (!fold.ok) continue;
-        JointModel again = fine(chosen.structure.input_lag, &fold, data);
-        if (again.ok && again.rss < chosen.rss) chosen = std::move(again);
+    if (chosen.structure.op == OperatorKind::kBacklash && !std::getenv("LX_NORESTART")) {
+      // The folds' regimes may be a better start (val's data help to determine their borders): the fit is redone
+      // on the identification phases from each, and the lowest RSS kept. A backlash's only (a switch has no
+      // regimes to find); the two folds on two threads.
+      const double lambda = chosen.structure.input_lag;
+      const auto restart = [&](std::size_t k) {
+        const JointModel fold = fine(lambda, &chosen, folds.train[k]);
+        return fold.ok ? fine(lambda, &fold, data) : JointModel{};
+      };
+      auto second = std::async(std::launch::async, restart, 1);
+      JointModel first = restart(0);
+      JointModel other = second.get();
+      for (JointModel* m : {&first, &other}) {
+        if (m->ok && m->rss < chosen.rss) chosen = std::move(*m);
       }
     }
     return chosen;
