@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <future>
@@ -102,6 +103,7 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
                         c.identification.whiteness.statistic <
                             options.whiteness_ratio * current.identification.whiteness.statistic ||
                         std::max(val_gain, like_gain) >= options.explaining_val_gain;
+  if (std::getenv("LX_SEL")) std::fprintf(stderr, "SEL %d lr=%.1f val=%.2f iv=%.2f cur=%.2f curiv=%.2f Q=%.0f curQ=%.0f explains=%d beatsiv=%d\n", static_cast<int>(c.cause), c.likelihood_ratio, c.fit_val, c.fit_instrumental, current.fit, current.fit_instrumental, c.identification.whiteness.statistic, current.identification.whiteness.statistic, explains, beats_instrumental);
   return explains && val_gain > options.min_val_gain && beats_instrumental;
 }
 
@@ -255,8 +257,29 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   const auto ranked = [&](const CandidateCause& c) {
     return options.instrumental_ranking ? best_fit(c.fit_val, c.fit_instrumental) : c.fit_val;
   };
+  // A drift on top of an input lag whose lambda was searched without it: if the drift is significant and explains
+  // the residual correlation but the val checks reject it, lambda is searched again with the drift in (a drift
+  // left out biases lambda, and the drift then simulates val worse with the old lambda).
+  const auto research_lag = [&](CandidateCause& c) {
+    if (!options.lag_with_drift || c.cause != Cause::kSensorDrift || !(current.model.structure.input_lag > 0) ||
+        !c.model.ok || structural_accepted(c, current, options) ||
+        stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p) {
+      return;
+    }
+    const JointModel base =
+        fit_joint_model(config, data, without_cause(c.model.structure, Cause::kInputLag), &c.model);
+    if (!base.ok) return;
+    CandidateCause lag = refit(Cause::kInputLag, base, current.model, current.val_simulation);
+    if (!lag.model.ok || !(lag.model.structure.input_lag > 0)) return;
+    lag.cause = Cause::kSensorDrift;
+    lag.parameters = CauseParameters{};
+    lag.parameters.drift_total = lag.model.drift_total();
+    instrumental_fit(lag);
+    if (structural_accepted(lag, current, options)) c = std::move(lag);
+  };
   while (!round.empty()) {
     for (CandidateCause& c : round) instrumental_fit(c);
+    for (CandidateCause& c : round) research_lag(c);
     const CandidateCause* best = nullptr;
     for (const CandidateCause& c : round) {
       if (structural_accepted(c, current, options) && (best == nullptr || ranked(c) > ranked(*best))) best = &c;

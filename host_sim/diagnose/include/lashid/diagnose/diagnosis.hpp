@@ -120,6 +120,9 @@ struct DiagnosisOptions {
   /// The fine input-lag model's lambda is the one that simulates val best among those whose likelihood ratio
   /// against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
   double lag_val_window = 200.0;
+  /// A drift that is significant on top of an input lag but fails the val checks gets lambda searched again with
+  /// it (search_input_lag on the drift model without the lag).
+  bool lag_with_drift = true;
   /// The fine input-lag model's lambda is cross-validated within val (two folds, each trained on the
   /// identification phases and one half of val, scored on the other half) instead of lag_val_window's rule.
   bool lag_cross_validation = true;
