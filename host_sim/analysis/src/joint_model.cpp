@@ -206,9 +206,34 @@ void border_values(const BorderLayout& border, const Eigen::VectorXd& c, const s
 }
 
 // One fit for a fixed basis (regime sequence). `instruments_y`, when given, replaces y in the instruments.
+// The parameter vector of `warm` in this layout's columns (a, the products b_i c_k, kappa0, kappa1), if `warm` has
+// the same border tables: a rank-1 start for the Gauss-Newton fit that needs no unrestricted solution.
+std::optional<Eigen::VectorXd> warm_theta(const JointModel& warm, const Layout& layout, int n, int P, int cols,
+                                          const ModelStructure& structure) {
+  if (!warm.ok || warm.n != n || warm.descending_u.size() != layout.descending.x.size() ||
+      warm.ascending_u.size() != layout.ascending.x.size() || warm.b.size() != static_cast<std::size_t>(n)) {
+    return std::nullopt;
+  }
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(P);
+  for (const auto* border : {&layout.descending, &layout.ascending}) {
+    const auto& u = border == &layout.descending ? warm.descending_u : warm.ascending_u;
+    for (std::size_t k = 0; k < border->param.size(); ++k) {
+      if (border->param[k] >= 0) c(border->param[k]) = u[k];
+    }
+  }
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
+  for (int i = 0; i < n; ++i) {
+    theta(i) = warm.a[static_cast<std::size_t>(i)];
+    theta.segment(n + i * P, P) = warm.b[static_cast<std::size_t>(i)] * c;
+  }
+  theta(n + n * P) = warm.kappa0;
+  if (structure.drift) theta(n + n * P + 1) = warm.kappa1;
+  return theta;
+}
+
 JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, const FlatRecording& data,
                           const ModelStructure& structure, const Basis& phi,
-                          const std::vector<double>* instruments_y) {
+                          const std::vector<double>* instruments_y, const JointModel* warm = nullptr) {
   const int n = config.n;
   const int P = layout.parameters;
   const RegressionShape g = regression_shape(n, P, data, structure);
@@ -232,15 +257,28 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   model.parameters = static_cast<int>(keep.size());
   const Eigen::MatrixXd zx = ne.zx(keep, keep);
   const Eigen::VectorXd zy = ne.zy(keep);
-  const std::optional<Eigen::VectorXd> reduced = solve_normal_equations(zx, zy, instruments_y != nullptr,
-                                                                        model.failure);
-  if (!reduced) return model;
-  Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
-  for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
   // The finer tables' products have many border columns: their unrestricted fit is that of n free borders (RSS
   // and lambda profile far flatter than the rank-1 model's), so the rank-1 model is fitted by least squares.
-  if (instruments_y == nullptr && n >= 2 && structure.border_segments > 1) {
-    refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), theta);
+  const bool rank_one = instruments_y == nullptr && n >= 2 && structure.border_segments > 1;
+  Eigen::VectorXd theta;
+  // From a model with the same tables (the previous pass of a regime iteration, a neighbouring lambda), the rank-1
+  // fit starts there and skips the unrestricted solution (a Cholesky factorisation of ~350 columns at n = 3, m = 6,
+  // most of the fit's cost). If no step improves on the start, the fit is done from the unrestricted solution too.
+  if (rank_one && warm != nullptr) {
+    if (auto start = warm_theta(*warm, layout, n, P, cols, structure)) {
+      for (Eigen::Index k = 0; k < cols; ++k) {
+        if (std::find(keep.begin(), keep.end(), k) == keep.end()) (*start)(k) = 0.0;
+      }
+      if (refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), *start) > 0) theta = std::move(*start);
+    }
+  }
+  if (theta.size() == 0) {
+    const std::optional<Eigen::VectorXd> reduced = solve_normal_equations(zx, zy, instruments_y != nullptr,
+                                                                          model.failure);
+    if (!reduced) return model;
+    theta = Eigen::VectorXd::Zero(cols);
+    for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
+    if (rank_one) refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), theta);
   }
   model.residuals.reserve(g.rows.size());
   visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
@@ -327,14 +365,14 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   // when given, the regimes of `initial` (e.g. the nominal fit, a better start once the input is filtered).
   const auto fit_from = [&](const JointModel* start) {
     Basis phi = operator_basis(layout, w, structure.op, start);
-    JointModel model = fit_with_basis(config, layout, data, ls_structure, phi, nullptr);
+    JointModel model = fit_with_basis(config, layout, data, ls_structure, phi, nullptr, start);
     JointModel current = model;
     Basis current_phi = phi;
     for (int pass = 0; pass < 8 && current.ok && structure.op == OperatorKind::kBacklash; ++pass) {
       Basis next = operator_basis(layout, w, structure.op, &current);
       if (next == current_phi) break;
-      current = fit_with_basis(config, layout, data, ls_structure, next, nullptr);
-      current_phi = std::move(next);
+      current = fit_with_basis(config, layout, data, ls_structure, next, nullptr, &current);
+        current_phi = std::move(next);
       if (!current.ok || !(current.rss < model.rss)) break;
       model = current;
       phi = current_phi;

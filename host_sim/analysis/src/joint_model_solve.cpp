@@ -55,8 +55,8 @@ constexpr double kRankOneTolerance = 0.01;
 // least-squares rank-1 model once the products have many border columns (n >= 2 with the finer tables): its RSS
 // is that of n free borders, and the factorised model's can be far larger. If a step's system is singular, theta
 // stays the unrestricted solution.
-void refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
-                     int n, int P, double yy, std::size_t rows, Eigen::VectorXd& theta) {
+int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
+                    int n, int P, double yy, std::size_t rows, Eigen::VectorXd& theta) {
   const double relative_tolerance = kRankOneTolerance / static_cast<double>(rows);
   const Eigen::Index cols = theta.size();
   const auto first_extra = static_cast<Eigen::Index>(n + n * P);
@@ -99,6 +99,7 @@ void refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const
   };
   std::vector<std::array<Term, 2>> terms(keep.size());
   std::vector<int> count(keep.size());
+  int steps = 0;
   for (int iteration = 0; iteration < kRankOneIterations; ++iteration) {
     Eigen::VectorXd offset = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(keep.size()));
     for (std::size_t q = 0; q < keep.size(); ++q) {
@@ -168,6 +169,7 @@ void refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const
       const double now = objective(next);
       if (!(now < best_objective)) continue;
       improved = true;
+      ++steps;
       const bool converged = best_objective - now <= tolerance;
       best = std::move(next);
       best_objective = now;
@@ -178,6 +180,7 @@ void refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const
     if (!improved) break;
   }
   theta = best;
+  return steps;
 }
 
 }  // namespace lashid::sim::detail

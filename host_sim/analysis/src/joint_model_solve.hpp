@@ -20,8 +20,9 @@ std::optional<Eigen::VectorXd> solve_normal_equations(const Eigen::MatrixXd& zx,
 /// The least-squares model whose products b_i c_k are exactly rank one, from the unrestricted solution `theta`
 /// (columns: a_1..a_n, the n x P products, then the rest; `zx`, `zy` are the normal equations restricted to the
 /// columns `keep`, `yy` the sum of squared targets, `rows` the number of rows). Gauss-Newton from the best rank-1
-/// factorisation; `theta` is replaced by the result, or left as it is if a step's system is singular.
-void refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
-                     int n, int P, double yy, std::size_t rows, Eigen::VectorXd& theta);
+/// factorisation of `theta`'s products (a rank-1 `theta` is a warm start); `theta` is replaced by the best point
+/// reached. Returns the number of steps that lowered the objective.
+int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
+                    int n, int P, double yy, std::size_t rows, Eigen::VectorXd& theta);
 
 }  // namespace lashid::sim::detail

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <future>
 #include <iterator>
@@ -94,7 +92,7 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
   const bool lambda_on_val = c.cause == Cause::kInputLag && c.model.structure.border_segments > 1;
   const bool beats_instrumental =
       !options.instrumental_check ||
-      extended > current.fit_instrumental + (lambda_on_val ? (std::getenv("LX_OPT") ? std::atof(std::getenv("LX_OPT")) : options.lag_val_optimism) : 0.0);
+      extended > current.fit_instrumental + (lambda_on_val ? options.lag_val_optimism : 0.0);
   // The large val gain may also be the IV fits' (a drift under sensor noise: least squares gained 2.5 to 4.8 points
   // on tuning seeds 1030, 1036 and 1039 of sensor_drift+colored_noise, its IV fit more than 5 over the nominal IV).
   const double like_gain = options.instrumental_ranking ? extended - std::max(current.fit, current.fit_instrumental)
@@ -103,7 +101,6 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
                         c.identification.whiteness.statistic <
                             options.whiteness_ratio * current.identification.whiteness.statistic ||
                         std::max(val_gain, like_gain) >= options.explaining_val_gain;
-  if (std::getenv("LX_SEL")) std::fprintf(stderr, "SEL %d lr=%.1f val=%.2f iv=%.2f cur=%.2f curiv=%.2f Q=%.0f curQ=%.0f explains=%d beatsiv=%d\n", static_cast<int>(c.cause), c.likelihood_ratio, c.fit_val, c.fit_instrumental, current.fit, current.fit_instrumental, c.identification.whiteness.statistic, current.identification.whiteness.statistic, explains, beats_instrumental);
   return explains && val_gain > options.min_val_gain && beats_instrumental;
 }
 

@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <future>
 #include <limits>
 #include <utility>
@@ -12,6 +11,8 @@
 #include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim::detail {
+
+
 
 namespace {
 
@@ -94,9 +95,14 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
   LagPath path;
   const JointModel* previous = &current;
   for (double lambda : lambdas) {
-    JointModel m = fit(lambda, previous, data);
+    // The second start on a second thread (the result does not depend on it).
+    std::future<JointModel> second;
     if (two_starts && previous != &current && current.structure.op == OperatorKind::kBacklash) {
-      JointModel again = fit(lambda, &current, data);
+      second = std::async(std::launch::async, [&, lambda] { return fit(lambda, &current, data); });
+    }
+    JointModel m = fit(lambda, previous, data);
+    if (second.valid()) {
+      JointModel again = second.get();
       if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
     }
     if (!m.ok) continue;
@@ -141,19 +147,27 @@ std::size_t best_cross(const LagPath& p) {
 // simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of energies)). The two folds run on
 // two threads; the result does not depend on it.
 template <class Fit>
-void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data) {
-  const std::size_t count = path.model.size();
+void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data,
+                    std::vector<std::size_t> points = {}) {
+  if (points.empty()) {
+    for (std::size_t i = 0; i < path.model.size(); ++i) points.push_back(i);
+  }
+  const std::size_t count = points.size();
   std::vector<HeldOutError> second(count);
   auto other = std::async(std::launch::async, [&] {
-    for (std::size_t i = 0; i < count; ++i) second[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 1, data);
+    for (std::size_t j = 0; j < count; ++j) {
+      second[j] = held_out_error(fit, path.lambda[points[j]], path.model[points[j]], folds, 1, data);
+    }
   });
   std::vector<HeldOutError> first(count);
-  for (std::size_t i = 0; i < count; ++i) first[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 0, data);
+  for (std::size_t j = 0; j < count; ++j) {
+    first[j] = held_out_error(fit, path.lambda[points[j]], path.model[points[j]], folds, 0, data);
+  }
   other.get();
-  for (std::size_t i = 0; i < count; ++i) {
-    const double error = first[i].error + second[i].error, total = first[i].total + second[i].total;
-    path.fit_cross[i] = std::isfinite(error) && total > 0 ? 100.0 * (1.0 - std::sqrt(error / total))
-                                                          : -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < count; ++j) {
+    const double error = first[j].error + second[j].error, total = first[j].total + second[j].total;
+    path.fit_cross[points[j]] = std::isfinite(error) && total > 0 ? 100.0 * (1.0 - std::sqrt(error / total))
+                                                                  : -std::numeric_limits<double>::infinity();
   }
 }
 
@@ -212,7 +226,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   // candidate is rejected whatever lambda it has (this keeps the lag's search as cheap as before for the other
   // causes, where it is a candidate in every round).
   const double best_ratio = likelihood_ratio(current, path.model[best_rss(path)]);
-  const bool cross = options.lag_cross_validation && !std::getenv("LX_NOCV") &&
+  const bool cross = options.lag_cross_validation &&
                      stats::chi2_sf(std::max(best_ratio, 0.0), 1.0) < options.structural_p;
   const ValFolds folds = val_folds(data, val);
   if (cross) cross_validate(fine, path, folds, data);
@@ -236,7 +250,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
     const std::size_t near_at = best_cross(near);
     const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
     JointModel chosen = on_path ? path.model[at] : near.model[near_at];
-    if (chosen.structure.op == OperatorKind::kBacklash && !std::getenv("LX_NORESTART")) {
+    if (chosen.structure.op == OperatorKind::kBacklash) {
       // The folds' regimes may be a better start (val's data help to determine their borders): the fit is redone
       // on the identification phases from each, and the lowest RSS kept. A backlash's only (a switch has no
       // regimes to find); the two folds on two threads.
