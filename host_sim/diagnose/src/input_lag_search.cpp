@@ -181,8 +181,12 @@ void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRec
 //   that is right there; but with a flexible border the identification phases barely tell lambda apart (every
 //   pulse starts from the same extreme level: a different lambda and a reshaped border give the same outputs; the
 //   RSS profile is flat to 1 % over +-0.15 on curved tuning seeds, and its minimum is biased upward). The val
-//   phase, whose moves join every pair of levels, does tell them apart: lambda is the one whose model simulates
-//   val best, on a 0.05 grid and then a 0.01 grid (+-0.02) around it.
+//   phase, whose moves join every pair of levels, does tell them apart, but only where the borders are known
+//   beside the levels, which the identification phases never visit: lambda is cross-validated within val (each
+//   fold trained on the identification phases and one half of val, scored on the other half), on a 0.05 grid and
+//   then a 0.01 grid (+-0.02) around the best point. The model returned is fitted on the identification phases
+//   only. With options.lag_cross_validation off: the lambda whose model simulates val best within
+//   options.lag_val_window of the RSS minimum (session 7's rule, biased upward on curved borders).
 // The fine model is used if BIC prefers it at its RSS minimum (N ln(RSS_coarse / RSS_fine) > extra parameters x
 // ln N) or if it simulates val more than options.lag_fine_val_gain points better than the coarse one; otherwise
 // the coarse model (on borders linear between the levels it is exact and pins lambda better).

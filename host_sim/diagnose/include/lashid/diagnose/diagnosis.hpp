@@ -117,8 +117,8 @@ struct DiagnosisOptions {
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
-  /// The fine input-lag model's lambda is the one that simulates val best among those whose likelihood ratio
-  /// against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
+  /// Without lag_cross_validation, the fine input-lag model's lambda is the one that simulates val best among those
+  /// whose likelihood ratio against the best on the identification phases (N ln(RSS / RSS_min)) is at most this.
   double lag_val_window = 200.0;
   /// A drift that is significant on top of an input lag but fails the val checks gets lambda searched again with
   /// it (search_input_lag on the drift model without the lag).
