@@ -205,7 +205,6 @@ void border_values(const BorderLayout& border, const Eigen::VectorXd& c, const s
   }
 }
 
-// One fit for a fixed basis (regime sequence). `instruments_y`, when given, replaces y in the instruments.
 // The parameter vector of `warm` in this layout's columns (a, the products b_i c_k, kappa0, kappa1), if `warm` has
 // the same border tables: a rank-1 start for the Gauss-Newton fit that needs no unrestricted solution.
 std::optional<Eigen::VectorXd> warm_theta(const JointModel& warm, const Layout& layout, int n, int P, int cols,
@@ -231,6 +230,8 @@ std::optional<Eigen::VectorXd> warm_theta(const JointModel& warm, const Layout& 
   return theta;
 }
 
+// One fit for a fixed basis (regime sequence). `instruments_y`, when given, replaces y in the instruments; `warm`,
+// when given, may start the rank-1 fit (warm_theta).
 JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, const FlatRecording& data,
                           const ModelStructure& structure, const Basis& phi,
                           const std::vector<double>* instruments_y, const JointModel* warm = nullptr) {
@@ -265,11 +266,10 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   // fit starts there and skips the unrestricted solution (a Cholesky factorisation of ~350 columns at n = 3, m = 6,
   // most of the fit's cost). If no step improves on the start, the fit is done from the unrestricted solution too.
   if (rank_one && warm != nullptr) {
-    if (auto start = warm_theta(*warm, layout, n, P, cols, structure)) {
-      for (Eigen::Index k = 0; k < cols; ++k) {
-        if (std::find(keep.begin(), keep.end(), k) == keep.end()) (*start)(k) = 0.0;
-      }
-      if (refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), *start) > 0) theta = std::move(*start);
+    if (const auto start = warm_theta(*warm, layout, n, P, cols, structure)) {
+      Eigen::VectorXd kept = Eigen::VectorXd::Zero(cols);  // the columns left out stay zero
+      for (Eigen::Index k : keep) kept(k) = (*start)(k);
+      if (refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), kept) > 0) theta = std::move(kept);
     }
   }
   if (theta.size() == 0) {

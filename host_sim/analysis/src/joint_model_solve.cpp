@@ -47,14 +47,14 @@ constexpr int kRankOneIterations = 6;
 constexpr int kRankOneHalvings = 4;
 constexpr double kRankOneTolerance = 0.01;
 
-// Least squares restricted to rank one (the products b_i c_k = b_i c_k), from the unrestricted solution: Gauss-
-// Newton on the normal equations. Linearised at (b, c), the products are b'_i c_k + b_i c'_k - b_i c_k, linear in
-// (a, b', c', the rest), so each step is one linear least-squares problem whose normal equations are sums of the
-// full ones' entries (c'_0 stays fixed: the scale of b c' is free). A step that does not lower the objective ends
-// the iteration. The paper's over-parametrisation (3.21) then its best rank-1 factorisation is not the
-// least-squares rank-1 model once the products have many border columns (n >= 2 with the finer tables): its RSS
-// is that of n free borders, and the factorised model's can be far larger. If a step's system is singular, theta
-// stays the unrestricted solution.
+// Least squares restricted to rank one (the products b_i c_k = b_i c_k), from the unrestricted solution or a rank-1
+// warm start: Gauss-Newton on the normal equations. Linearised at (b, c), the products are b'_i c_k + b_i c'_k -
+// b_i c_k, linear in (a, b', c', the rest), so each step is one linear least-squares problem whose normal equations
+// are sums of the full ones' entries (c'_0 stays fixed: the scale of b c' is free). A step that does not lower the
+// objective is halved (up to kRankOneHalvings times); if none of them does, or a step's system is singular, the
+// iteration ends at the best point so far. The paper's over-parametrisation (3.21) then its best rank-1
+// factorisation is not the least-squares rank-1 model once the products have many border columns (n >= 2 with the
+// finer tables): its RSS is that of n free borders, and the factorised model's can be far larger.
 int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const std::vector<Eigen::Index>& keep,
                     int n, int P, double yy, std::size_t rows, Eigen::VectorXd& theta) {
   const double relative_tolerance = kRankOneTolerance / static_cast<double>(rows);
@@ -87,7 +87,7 @@ int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const 
     for (int i = 0; i < n; ++i) th.segment(n + i * P, P) = bb(i) * cc;
     return th;
   };
-  // Stop when a step lowers the RSS by less than relative_tolerance of the unrestricted fit's (in likelihood-ratio
+  // Stop when a step lowers the RSS by less than relative_tolerance of the starting point's (in likelihood-ratio
   // terms, N ln(RSS_before / RSS_after) < N relative_tolerance).
   const double tolerance = relative_tolerance * std::max(yy + objective(theta), 0.0);
   Eigen::VectorXd best = assemble(theta, b, c);

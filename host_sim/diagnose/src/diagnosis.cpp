@@ -80,7 +80,7 @@ double best_fit(double least_squares, double instrumental) {
 // the residual correlation (white residuals, most of the Ljung-Box statistic gone, or a large val gain when a
 // coloured disturbance keeps the residuals coloured whatever the structure), and better on val (the val check).
 bool structural_accepted(const CandidateCause& c, const CurrentModel& current, const DiagnosisOptions& options) {
-  if (!c.model.ok || stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p) return false;
+  if (!c.model.ok || !detail::significant(c.likelihood_ratio, options)) return false;
   const double val_gain = c.fit_val - current.fit;
   // The IV check: an extension that simulates val no better than the current structure with a coloured
   // disturbance's bias removed (instrumental variables) is absorbing that disturbance, not a missing structure.
@@ -196,8 +196,7 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
     const JointModel reduced =
         fit_joint_model(config, data, without_cause(current.model.structure, cause), &current.model);
     if (!reduced.ok) continue;
-    const double lr = detail::likelihood_ratio(reduced, current.model);
-    if (stats::chi2_sf(std::max(lr, 0.0), 1.0) < options.structural_p) continue;
+    if (detail::significant(detail::likelihood_ratio(reduced, current.model), options)) continue;
     const AddedCause dropped = d.added[i];
     d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
     adopt(current, reduced, d, data);
@@ -259,8 +258,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   // left out biases lambda, and the drift then simulates val worse with the old lambda).
   const auto research_lag = [&](CandidateCause& c) {
     if (!options.lag_with_drift || c.cause != Cause::kSensorDrift || !(current.model.structure.input_lag > 0) ||
-        !c.model.ok || structural_accepted(c, current, options) ||
-        stats::chi2_sf(std::max(c.likelihood_ratio, 0.0), 1.0) >= options.structural_p) {
+        !c.model.ok || !detail::significant(c.likelihood_ratio, options) || structural_accepted(c, current, options)) {
       return;
     }
     const JointModel base =

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "lashid/stats/metrics.hpp"
+#include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim::detail {
 
@@ -82,6 +83,10 @@ std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data) {
 double likelihood_ratio(const JointModel& before, const JointModel& after) {
   if (!after.ok || !(after.rss > 0)) return 0.0;
   return static_cast<double>(before.rows) * std::log(before.rss / after.rss);
+}
+
+bool significant(double likelihood_ratio, const DiagnosisOptions& options) {
+  return stats::chi2_sf(std::max(likelihood_ratio, 0.0), 1.0) < options.structural_p;
 }
 
 // On the identification phases these are the regression's own residuals (those of the likelihood ratio); on val

@@ -18,6 +18,10 @@ std::pair<std::size_t, std::size_t> val_range(const FlatRecording& data);
 /// N ln(RSS_before / RSS_after) on the identification rows (0 when `after` failed).
 double likelihood_ratio(const JointModel& before, const JointModel& after);
 
+/// Whether a structural extension with this likelihood ratio (one parameter) is significant at
+/// options.structural_p.
+bool significant(double likelihood_ratio, const DiagnosisOptions& options);
+
 /// Correlation analysis of the one-step residuals of `model` on the identification phases, or on val.
 ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, bool validation);
 

@@ -8,11 +8,8 @@
 #include <vector>
 
 #include "diagnosis_candidates.hpp"
-#include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim::detail {
-
-
 
 namespace {
 
@@ -147,27 +144,19 @@ std::size_t best_cross(const LagPath& p) {
 // simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of energies)). The two folds run on
 // two threads; the result does not depend on it.
 template <class Fit>
-void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data,
-                    std::vector<std::size_t> points = {}) {
-  if (points.empty()) {
-    for (std::size_t i = 0; i < path.model.size(); ++i) points.push_back(i);
-  }
-  const std::size_t count = points.size();
+void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data) {
+  const std::size_t count = path.model.size();
   std::vector<HeldOutError> second(count);
   auto other = std::async(std::launch::async, [&] {
-    for (std::size_t j = 0; j < count; ++j) {
-      second[j] = held_out_error(fit, path.lambda[points[j]], path.model[points[j]], folds, 1, data);
-    }
+    for (std::size_t i = 0; i < count; ++i) second[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 1, data);
   });
   std::vector<HeldOutError> first(count);
-  for (std::size_t j = 0; j < count; ++j) {
-    first[j] = held_out_error(fit, path.lambda[points[j]], path.model[points[j]], folds, 0, data);
-  }
+  for (std::size_t i = 0; i < count; ++i) first[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 0, data);
   other.get();
-  for (std::size_t j = 0; j < count; ++j) {
-    const double error = first[j].error + second[j].error, total = first[j].total + second[j].total;
-    path.fit_cross[points[j]] = std::isfinite(error) && total > 0 ? 100.0 * (1.0 - std::sqrt(error / total))
-                                                                  : -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < count; ++i) {
+    const double error = first[i].error + second[i].error, total = first[i].total + second[i].total;
+    path.fit_cross[i] = std::isfinite(error) && total > 0 ? 100.0 * (1.0 - std::sqrt(error / total))
+                                                          : -std::numeric_limits<double>::infinity();
   }
 }
 
@@ -229,12 +218,11 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   // Cross-validation only where the lag can matter: if no lambda's fit is significant against `current`, the
   // candidate is rejected whatever lambda it has (this keeps the lag's search as cheap as before for the other
   // causes, where it is a candidate in every round).
-  const double best_ratio = likelihood_ratio(current, path.model[best_rss(path)]);
-  const bool cross = options.lag_cross_validation &&
-                     stats::chi2_sf(std::max(best_ratio, 0.0), 1.0) < options.structural_p;
-  const ValFolds folds = val_folds(data, val);
-  if (cross) cross_validate(fine, path, folds, data);
   const JointModel& fine_rss = path.model[best_rss(path)];
+  const bool cross = options.lag_cross_validation && significant(likelihood_ratio(current, fine_rss), options);
+  // The folds copy the recording: made only where they are used.
+  const ValFolds folds = cross ? val_folds(data, val) : ValFolds{};
+  if (cross) cross_validate(fine, path, folds, data);
   const double samples = static_cast<double>(best_coarse.rows);
   const double gain = samples * std::log(best_coarse.rss / fine_rss.rss);
   const double cost = static_cast<double>(fine_rss.parameters - best_coarse.parameters) * std::log(samples);
@@ -249,8 +237,8 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
     if (k != 0 && lambda > 0.0 && lambda <= max_lag) local.push_back(lambda);
   }
   LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false);
-  if (cross) cross_validate(fine, near, folds, data);
   if (cross) {
+    cross_validate(fine, near, folds, data);
     const std::size_t near_at = best_cross(near);
     const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
     JointModel chosen = on_path ? path.model[at] : near.model[near_at];
