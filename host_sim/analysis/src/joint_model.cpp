@@ -10,13 +10,13 @@
 #include <tuple>
 #include <utility>
 
-
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
 #include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
 #include "joint_model_layout.hpp"
+#include "joint_model_regression.hpp"
 #include "joint_model_solve.hpp"
 #include "model_operator.hpp"
 
@@ -24,112 +24,22 @@ namespace lashid::sim {
 
 using detail::Basis;
 using detail::BorderLayout;
+using detail::Entry;
 using detail::HatRow;
 using detail::Layout;
 using detail::make_layout;
+using detail::normal_equations;
+using detail::NormalEquations;
 using detail::operator_basis;
 using detail::refine_rank_one;
+using detail::regression_shape;
+using detail::RegressionShape;
 using detail::solve_normal_equations;
 using detail::SmoothnessStencil;
 using detail::tau;
+using detail::visit_rows;
 
 namespace {
-
-// The stacked regression (3.19) over the identification rows t >= n: columns a_1..a_n, the n x P products
-// b_i c_p, the offset kappa0 and, with drift, kappa1. A row has at most 3n + 2 non-zero entries; `visit` hands
-// them to `f(t, entries, y(t))`, with the instruments' y lags instead of the outputs' when `instruments_y` is given.
-struct Entry {
-  Eigen::Index column;
-  double value;
-};
-
-struct RegressionShape {
-  int n = 0, P = 0, cols = 0;
-  std::vector<std::size_t> rows;
-};
-
-RegressionShape regression_shape(int n, int P, const FlatRecording& data, const ModelStructure& structure) {
-  RegressionShape g;
-  g.n = n;
-  g.P = P;
-  g.cols = n + n * P + 1 + (structure.drift ? 1 : 0);
-  for (std::size_t t = static_cast<std::size_t>(n); t < data.size(); ++t) {
-    if (data.is_identification(t)) g.rows.push_back(t);
-  }
-  return g;
-}
-
-template <class F>
-void visit_rows(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                const Basis& phi, const std::vector<double>* lagged, F f) {
-  const std::vector<double>& y_lags = lagged != nullptr ? *lagged : data.y;
-  std::vector<Entry> entries;
-  for (std::size_t t : g.rows) {
-    entries.clear();
-    for (int i = 1; i <= g.n; ++i) {
-      const std::size_t lag = t - static_cast<std::size_t>(i);
-      entries.push_back({i - 1, -y_lags[lag]});
-      const HatRow& h = phi[lag];
-      for (int k = 0; k < 2; ++k) {
-        if (h.param[static_cast<std::size_t>(k)] >= 0) {
-          entries.push_back({g.n + (i - 1) * g.P + h.param[static_cast<std::size_t>(k)], h.weight[static_cast<std::size_t>(k)]});
-        }
-      }
-    }
-    entries.push_back({g.n + g.n * g.P, 1.0});
-    if (structure.drift) entries.push_back({g.n + g.n * g.P + 1, tau(t, data.size())});
-    f(t, entries, data.y[t]);
-  }
-}
-
-// The normal equations Z'X theta = Z'Y (Z = X for least squares) and the columns' energies on the data rows.
-struct NormalEquations {
-  Eigen::MatrixXd zx;
-  Eigen::VectorXd zy, energy;
-  double yy = 0;  ///< sum of y^2 over the rows (least squares)
-};
-
-NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                                 const Basis& phi, const std::vector<double>* instruments_y) {
-  NormalEquations ne;
-  ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
-  ne.zy = Eigen::VectorXd::Zero(g.cols);
-  ne.energy = Eigen::VectorXd::Zero(g.cols);
-  if (instruments_y == nullptr) {
-    // Symmetric: each pair of a row's entries once, into the upper triangle, mirrored at the end (the entries'
-    // columns are distinct within a row).
-    visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
-      ne.yy += y * y;
-      for (std::size_t p = 0; p < x.size(); ++p) {
-        const Entry& a = x[p];
-        ne.zy(a.column) += a.value * y;
-        for (std::size_t q = p; q < x.size(); ++q) {
-          const Entry& b = x[q];
-          ne.zx(std::min(a.column, b.column), std::max(a.column, b.column)) += a.value * b.value;
-        }
-      }
-    });
-    ne.zx.triangularView<Eigen::StrictlyLower>() = ne.zx.transpose();
-    ne.energy = ne.zx.diagonal();
-    return ne;
-  }
-  // Instruments: the same row with the instruments' lags in the a_i columns (the first n entries of each lag group
-  // are the y lags, in the same order in both visits).
-  std::vector<std::vector<Entry>> z_rows;
-  z_rows.reserve(g.rows.size());
-  visit_rows(g, data, structure, phi, instruments_y,
-             [&](std::size_t, const std::vector<Entry>& z, double) { z_rows.push_back(z); });
-  std::size_t r = 0;
-  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
-    const std::vector<Entry>& z = z_rows[r++];
-    for (const Entry& a : z) {
-      ne.zy(a.column) += a.value * y;
-      for (const Entry& b : x) ne.zx(a.column, b.column) += a.value * b.value;
-    }
-    for (const Entry& b : x) ne.energy(b.column) += b.value * b.value;
-  });
-  return ne;
-}
 
 // Border points the operator never moves through in these experiments (e.g. a backlash behind an input lag
 // that holds through a pulse) have all-zero columns: they are left out of the regression and filled by

@@ -1,0 +1,66 @@
+// The joint model's regression (3.19) over all identification phases: its rows, and its normal equations
+// (joint_model.cpp fits them).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "joint_model_layout.hpp"
+#include "lashid/analysis/joint_model.hpp"
+#include "model_operator.hpp"
+
+namespace lashid::sim::detail {
+
+// The stacked regression (3.19) over the identification rows t >= n: columns a_1..a_n, the n x P products
+// b_i c_p, the offset kappa0 and, with drift, kappa1. A row has at most 3n + 2 non-zero entries; `visit` hands
+// them to `f(t, entries, y(t))`, with the instruments' y lags instead of the outputs' when `instruments_y` is given.
+struct Entry {
+  Eigen::Index column;
+  double value;
+};
+
+struct RegressionShape {
+  int n = 0, P = 0, cols = 0;
+  std::vector<std::size_t> rows;
+};
+
+template <class F>
+void visit_rows(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                const Basis& phi, const std::vector<double>* lagged, F f) {
+  const std::vector<double>& y_lags = lagged != nullptr ? *lagged : data.y;
+  std::vector<Entry> entries;
+  for (std::size_t t : g.rows) {
+    entries.clear();
+    for (int i = 1; i <= g.n; ++i) {
+      const std::size_t lag = t - static_cast<std::size_t>(i);
+      entries.push_back({i - 1, -y_lags[lag]});
+      const HatRow& h = phi[lag];
+      for (int k = 0; k < 2; ++k) {
+        if (h.param[static_cast<std::size_t>(k)] >= 0) {
+          entries.push_back({g.n + (i - 1) * g.P + h.param[static_cast<std::size_t>(k)], h.weight[static_cast<std::size_t>(k)]});
+        }
+      }
+    }
+    entries.push_back({g.n + g.n * g.P, 1.0});
+    if (structure.drift) entries.push_back({g.n + g.n * g.P + 1, tau(t, data.size())});
+    f(t, entries, data.y[t]);
+  }
+}
+
+// The normal equations Z'X theta = Z'Y (Z = X for least squares) and the columns' energies on the data rows.
+struct NormalEquations {
+  Eigen::MatrixXd zx;
+  Eigen::VectorXd zy, energy;
+  double yy = 0;  ///< sum of y^2 over the rows (least squares)
+};
+
+/// The columns and identification rows of the regression for n, P border parameters and `structure`.
+RegressionShape regression_shape(int n, int P, const FlatRecording& data, const ModelStructure& structure);
+
+/// Least squares (Z = X, symmetric, and the sum of y^2) or, with `instruments_y`, instrumental variables.
+NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                                 const Basis& phi, const std::vector<double>* instruments_y);
+
+}  // namespace lashid::sim::detail
