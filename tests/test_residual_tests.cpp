@@ -130,6 +130,46 @@ TEST(CorrelationBand, NormalQuantileOverRootN) {
   EXPECT_THROW(correlation_band(10, 0.0), std::invalid_argument);
 }
 
+TEST(WithoutPeriodicMean, HandComputedWithGaps) {
+  // Period 3, indices with a gap (t = 4 missing): phase 0 holds x at t = 0, 3, 6 (1, 4, 7: mean 4), phase 1 at
+  // t = 1, 7 (2, 9: mean 5.5), phase 2 at t = 2, 5 (3, 8: mean 5.5).
+  const std::vector<double> x{1, 2, 3, 4, 8, 7, 9};
+  const std::vector<std::size_t> t{0, 1, 2, 3, 5, 6, 7};
+  const std::vector<double> out = without_periodic_mean(x, t, 3);
+  const std::vector<double> expected{-3, -3.5, -2.5, 0, 2.5, 3, 3.5};
+  ASSERT_EQ(out.size(), expected.size());
+  for (std::size_t i = 0; i < out.size(); ++i) EXPECT_DOUBLE_EQ(out[i], expected[i]) << i;
+  // Period 1: the mean (34 / 7) removed.
+  const std::vector<double> centred = without_periodic_mean(x, t, 1);
+  for (std::size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(centred[i], x[i] - 34.0 / 7.0, 1e-14) << i;
+}
+
+TEST(WithoutPeriodicMean, LeavesTheNoiseOfAPeriodicResponse) {
+  // A period-18 response (far larger than the noise) plus AR(1) noise, phi = 0.5. The periodic part dominates the
+  // raw autocorrelation; without it, Ljung-Box Q / N is the noise's: N sum_k r(k)^2 / N with r(k) = phi^k, i.e.
+  // sum_{k=1}^{20} 0.25^k = (1 - 0.25^20) / 3 (closed form), within sampling error (r(k) +- 1 / sqrt(N)).
+  constexpr std::size_t n = 60000;
+  constexpr std::size_t period = 18;
+  std::vector<double> x = ar1(n, 0.5, 41);
+  std::vector<std::size_t> t(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    t[i] = i;
+    x[i] += 5.0 * std::sin(2.0 * std::numbers::pi * static_cast<double>(i % period) / period) +
+            (i % period == 4 ? 8.0 : 0.0);
+  }
+  const double expected = (1.0 - std::pow(0.25, 20)) / 3.0;
+  const double raw = ljung_box(x, 20).statistic / static_cast<double>(n);
+  const double aperiodic = ljung_box(without_periodic_mean(x, t, period), 20).statistic / static_cast<double>(n);
+  EXPECT_GT(raw, 3.0 * expected);
+  EXPECT_NEAR(aperiodic, expected, 0.02);
+}
+
+TEST(WithoutPeriodicMean, RejectsBadArguments) {
+  const std::vector<double> x{1.0, 2.0};
+  EXPECT_THROW(without_periodic_mean(x, std::vector<std::size_t>{0}, 1), std::invalid_argument);
+  EXPECT_THROW(without_periodic_mean(x, std::vector<std::size_t>{0, 1}, 0), std::invalid_argument);
+}
+
 // ---------------------------------------------------------------------------------------------------------
 
 TEST(LjungBox, HandComputedAlternatingSeries) {

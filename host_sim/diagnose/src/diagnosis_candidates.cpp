@@ -107,6 +107,31 @@ ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, b
   return analyse(e, v);
 }
 
+double aperiodic_correlation(const JointModel& model, const FlatRecording& data, int period) {
+  const std::vector<double>& e = model.residuals;
+  const std::vector<std::size_t>& t = model.residual_t;
+  if (e.size() <= static_cast<std::size_t>(kResidualLags) || period < 1) return 0.0;
+  std::vector<double> aperiodic;
+  aperiodic.reserve(e.size());
+  // Each run of residuals from one phase loses its own periodic mean, its phase counted from the phase's start.
+  for (std::size_t begin = 0; begin < e.size();) {
+    const Phase phase = data.phase[t[begin]];
+    std::size_t start = t[begin];
+    while (start > 0 && data.phase[start - 1] == phase) --start;
+    std::size_t end = begin;
+    while (end < e.size() && data.phase[t[end]] == phase) ++end;
+    std::vector<std::size_t> since_start(t.begin() + static_cast<std::ptrdiff_t>(begin),
+                                         t.begin() + static_cast<std::ptrdiff_t>(end));
+    for (std::size_t& s : since_start) s -= start;
+    const bool pulses = phase == Phase::kDis || phase == Phase::kAis;
+    const std::vector<double> run = stats::without_periodic_mean(
+        std::span(e).subspan(begin, end - begin), since_start, pulses ? static_cast<std::size_t>(period) : 1);
+    aperiodic.insert(aperiodic.end(), run.begin(), run.end());
+    begin = end;
+  }
+  return stats::ljung_box(aperiodic, kResidualLags).statistic / static_cast<double>(aperiodic.size());
+}
+
 double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
                std::vector<double>* simulated) {
   std::vector<double> sim = simulate_segment(model, data, begin, end);

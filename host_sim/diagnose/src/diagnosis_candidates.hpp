@@ -24,6 +24,9 @@ bool significant(double likelihood_ratio, const DiagnosisOptions& options);
 
 /// Correlation analysis of the one-step residuals of `model` on the identification phases, or on val.
 ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, bool validation);
+/// Ljung-Box Q / N of the model's identification residuals without their periodic part
+/// (ColoredNoiseCheck::aperiodic_correlation); `period` is the pulse period T of the design.
+double aperiodic_correlation(const JointModel& model, const FlatRecording& data, int period);
 
 /// Simulation fit on [begin, end); -infinity for a diverging simulation. `simulated` receives the simulation.
 double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,

@@ -156,6 +156,12 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
     f.push_back(fmt::format("{} {}: {}; val fit {:.1f} %.", to_string(c.cause), to_string(c.parameters), evidence,
                             c.fit_val));
   }
+  if (!d.colored_check.white) {
+    f.push_back(fmt::format("The final structure's identification residuals are not white: Ljung-Box Q / N = {:.4f}, "
+                            "{:.4f} without their part that repeats with the pulse period (a model's own mismatch "
+                            "repeats with the input, sensor noise does not).",
+                            d.colored_check.correlation, d.colored_check.aperiodic_correlation));
+  }
   if (d.cause == Cause::kNone) {
     f.push_back("Conclusion: none. The nominal model explains the data; no extension is supported by the evidence.");
   } else {

@@ -9,6 +9,8 @@
 #include <limits>
 #include <utility>
 
+#include "lashid/estimator/design.hpp"
+
 namespace lashid::sim::detail {
 
 std::vector<CandidateCause> candidates_for(const std::vector<Cause>& causes,
@@ -302,8 +304,12 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   refine_input_lag(d, current, config, data, options);
   drop_unneeded_causes(d, current, config, data, options);
   const ResidualAnalysis& left = current.identification;
-  const double correlation = left.samples > 0 ? left.whiteness.statistic / static_cast<double>(left.samples) : 0.0;
-  if (!white(left, options) && correlation >= options.coloured_correlation) {
+  ColoredNoiseCheck& check = d.colored_check;
+  check.white = white(left, options);
+  check.correlation = left.samples > 0 ? left.whiteness.statistic / static_cast<double>(left.samples) : 0.0;
+  check.aperiodic_correlation = aperiodic_correlation(current.model, data, est::schedule::period(config.n, config.m));
+  const double correlation = options.coloured_aperiodic ? check.aperiodic_correlation : check.correlation;
+  if (!check.white && correlation >= options.coloured_correlation) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
     // simulates val at least as well (an IV fit of a large structure can be unstable).

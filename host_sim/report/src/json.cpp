@@ -103,6 +103,10 @@ nlohmann::json to_json(const Diagnosis& d) {
            {{"identification_residuals", to_json(d.identification)},
             {"validation_residuals", to_json(d.validation)},
             {"remark3b_z", d.remark3b_z},
+            {"colored_noise_check",
+             {{"white", d.colored_check.white},
+              {"ljung_box_per_sample", d.colored_check.correlation},
+              {"aperiodic_ljung_box_per_sample", d.colored_check.aperiodic_correlation}}},
             {"candidates", std::move(candidates)}}},
           {"models", {{"nominal", to_json(d.nominal)}, {"extended", to_json(d.extended)}}},
           {"paper_estimates", {{"dis", to_json(d.dis)}, {"ais", to_json(d.ais)}}}};

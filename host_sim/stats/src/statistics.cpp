@@ -131,6 +131,22 @@ std::vector<double> autocorrelation(std::span<const double> x, int max_lag) {
   return r;
 }
 
+std::vector<double> without_periodic_mean(std::span<const double> x, std::span<const std::size_t> t,
+                                          std::size_t period) {
+  constexpr const char* function = "without_periodic_mean";
+  if (x.size() != t.size()) fail(function, fmt::format("x has {} samples but t {}", x.size(), t.size()));
+  if (period < 1) fail(function, "period must be at least 1");
+  std::vector<double> sum(period, 0.0);
+  std::vector<std::size_t> count(period, 0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sum[t[i] % period] += x[i];
+    ++count[t[i] % period];
+  }
+  std::vector<double> out(x.begin(), x.end());
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] -= sum[t[i] % period] / static_cast<double>(count[t[i] % period]);
+  return out;
+}
+
 std::vector<double> cross_correlation(std::span<const double> e, std::span<const double> u, int max_lag) {
   constexpr const char* function = "cross_correlation";
   if (e.size() != u.size()) {

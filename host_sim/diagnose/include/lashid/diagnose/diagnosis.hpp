@@ -65,6 +65,16 @@ struct AddedCause {
   double ljung_box_before = 0, ljung_box_after = 0;  ///< of the identification residuals without and with it
 };
 
+/// The evidence for colored_noise, on the final structure's identification residuals.
+struct ColoredNoiseCheck {
+  bool white = true;           ///< Ljung-Box p >= DiagnosisOptions::white_p
+  double correlation = 0;      ///< Ljung-Box Q / N: the squared autocorrelations at lags 1..20, summed
+  /// Q / N of the residuals without their part that repeats with the experiment (the mean over the pulse periods at
+  /// each phase of the period in DIS and AIS, the mean in the step experiments): a model's own mismatch repeats
+  /// with the periodic input, sensor noise does not.
+  double aperiodic_correlation = 0;
+};
+
 struct Diagnosis {
   Cause cause = Cause::kNone;   ///< the strongest found cause (causes.front())
   std::vector<Cause> causes{Cause::kNone};  ///< every found cause, strongest first; {none} when there is none
@@ -73,6 +83,7 @@ struct Diagnosis {
   JointModel nominal, extended;
   double fit_nominal = 0, fit_extended = 0;  ///< 100 (1 - ||y - y_sim|| / ||y - mean y||) on val
   ResidualAnalysis identification, validation;  ///< nominal model's one-step residuals
+  ColoredNoiseCheck colored_check;              ///< of the final structure, before colored_noise is decided
   SchemeResult dis, ais;                        ///< the paper's per-scheme estimates
   double remark3b_z = 0;  ///< max over a_i, b_i of |x(DIS) - x(AIS)| / sqrt(se^2 + se^2) (Remark 3b, est::cross_check)
   std::vector<CandidateCause> candidates;
@@ -113,6 +124,10 @@ struct DiagnosisOptions {
   /// Q / N) to sum to this much: a structure's own small mismatch (curved borders between the levels) leaves
   /// residuals that fail the whiteness test on 15,000 samples yet correlate far less than sensor noise's do.
   double coloured_correlation = 0.03;
+  /// The correlation tested against coloured_correlation is the residuals' without their periodic part
+  /// (ColoredNoiseCheck::aperiodic_correlation): on curved borders an input lag's residuals repeat with the pulse
+  /// period (Q / N 0.031-1.4 raw, 0.002-0.04 without the periodic part on tuning seeds) and sensor noise's do not.
+  bool coloured_aperiodic = true;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model

@@ -72,6 +72,14 @@ std::vector<double> autocorrelation(std::span<const double> x, int max_lag);
 // 2 max_lag + 1). Requires 0 <= max_lag < N.
 std::vector<double> cross_correlation(std::span<const double> e, std::span<const double> u, int max_lag);
 
+// The part of x that does not repeat with a period: x(i) minus the mean of the samples of x at the same phase,
+// t(i) mod period (the synchronous average over the periods of a periodic experiment, which keeps the periodic
+// response and averages the noise out; Pintelon & Schoukens, "System Identification: A Frequency Domain
+// Approach", 2nd ed., Wiley-IEEE Press 2012, on periodic excitations). t(i) is the sample index of x(i) (gaps
+// allowed); period 1 removes the mean. Requires x and t of equal length and period >= 1 (throws otherwise).
+std::vector<double> without_periodic_mean(std::span<const double> x, std::span<const std::size_t> t,
+                                          std::size_t period);
+
 // Approximate two-sided confidence band for a sample (auto- or cross-) correlation of a white series:
 // +- normal_quantile((1 + confidence) / 2) / sqrt(n) (Ljung 1999 §16.6, from sqrt(N) r(k) -> N(0, 1)).
 // n >= 1, confidence in (0, 1). For a cross-correlation the band assumes one of the two series is white.
