@@ -90,6 +90,14 @@ struct LagPath {
   std::vector<double> fit_cross;
 };
 
+std::size_t best_rss(const LagPath& p) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < p.model.size(); ++i) {
+    if (p.model[i].rss < p.model[best].rss) best = i;
+  }
+  return best;
+}
+
 // A backlash's regime iteration can end in a poor fixed point even from the previous lambda's regimes (RSS 5 to 10
 // times both neighbours' on tuning seeds 1067 and 1075). The RSS of the best fit is continuous in lambda, so,
 // outward from the path's RSS minimum, a point whose RSS is more than kPoorFixedPoint times its inner neighbour's
@@ -99,10 +107,7 @@ template <class Fit>
 void repair_path(Fit fit, LagPath& path, const FlatRecording& data, std::pair<std::size_t, std::size_t> val) {
   const std::size_t count = path.model.size();
   if (count < 2) return;
-  std::size_t best = 0;
-  for (std::size_t i = 1; i < count; ++i) {
-    if (path.model[i].rss < path.model[best].rss) best = i;
-  }
+  const std::size_t best = best_rss(path);
   const auto repair = [&](std::size_t i, std::size_t inner) {
     if (!(path.model[i].rss > kPoorFixedPoint * path.model[inner].rss)) return;
     JointModel again = fit(path.lambda[i], &path.model[inner], data);
@@ -143,14 +148,6 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
   }
   if (two_starts && current.structure.op == OperatorKind::kBacklash) repair_path(fit, path, data, val);
   return path;
-}
-
-std::size_t best_rss(const LagPath& p) {
-  std::size_t best = 0;
-  for (std::size_t i = 1; i < p.model.size(); ++i) {
-    if (p.model[i].rss < p.model[best].rss) best = i;
-  }
-  return best;
 }
 
 // The lambda whose model simulates val best among those the identification phases do not reject: N ln(RSS /

@@ -136,14 +136,17 @@ std::vector<double> without_periodic_mean(std::span<const double> x, std::span<c
   constexpr const char* function = "without_periodic_mean";
   if (x.size() != t.size()) fail(function, fmt::format("x has {} samples but t {}", x.size(), t.size()));
   if (period < 1) fail(function, "period must be at least 1");
-  std::vector<double> sum(period, 0.0);
+  std::vector<double> mean(period, 0.0);
   std::vector<std::size_t> count(period, 0);
   for (std::size_t i = 0; i < x.size(); ++i) {
-    sum[t[i] % period] += x[i];
+    mean[t[i] % period] += x[i];
     ++count[t[i] % period];
   }
+  for (std::size_t k = 0; k < period; ++k) {
+    if (count[k] > 0) mean[k] /= static_cast<double>(count[k]);
+  }
   std::vector<double> out(x.begin(), x.end());
-  for (std::size_t i = 0; i < x.size(); ++i) out[i] -= sum[t[i] % period] / static_cast<double>(count[t[i] % period]);
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] -= mean[t[i] % period];
   return out;
 }
 
