@@ -92,61 +92,53 @@ int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const 
   const double tolerance = relative_tolerance * std::max(yy + objective(theta), 0.0);
   Eigen::VectorXd best = assemble(theta, b, c);
   double best_objective = objective(best);
-  // Each kept full column q is sum_e f * x(r) over at most two reduced columns, minus offset(q).
-  struct Term {
-    Eigen::Index r;
-    double f;
-  };
-  std::vector<std::array<Term, 2>> terms(keep.size());
-  std::vector<int> count(keep.size());
+  // The kept columns are a (n), then per lag i the same kept border points (kept_k of them, c_0 first when kept:
+  // excited_columns keeps or drops a point for every lag at once), then the rest. In these terms the step's
+  // reduced columns are x = T' (full columns): full = T x - offset, where a product column (i, k) is
+  // c_k b'_i + b_i c'_k (k != 0) and every other column is itself. T has a block structure, so
+  // M = T' zx T and g = T' (zy + zx offset) are a few matrix products on zx's blocks (an entry-by-entry
+  // assembly was half of a diagnosis' time in this function).
+  const Eigen::Index extras = cols - first_extra;
+  const Eigen::Index K = static_cast<Eigen::Index>(keep.size());
+  const Eigen::Index kept_k = (K - n - extras) / n;
+  const bool c0_kept = kept_k > 0 && keep[static_cast<std::size_t>(n)] == n;
+  const auto block = [&](int i) { return static_cast<Eigen::Index>(n) + i * kept_k; };  // lag i's first kept column
+  const Eigen::Index first_c = c0_kept ? 1 : 0;  // within a lag block, the first column with a free c'
+  Eigen::VectorXd c_kept(kept_k);
+  const Eigen::Index extra_at = block(n);  // position of the first extra column among the kept ones
   int steps = 0;
   for (int iteration = 0; iteration < kRankOneIterations; ++iteration) {
-    Eigen::VectorXd offset = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(keep.size()));
-    for (std::size_t q = 0; q < keep.size(); ++q) {
-      const Eigen::Index j = keep[q];
-      count[q] = 1;
-      if (j < n) {
-        terms[q][0] = {j, 1.0};
-      } else if (j < first_extra) {
-        const Eigen::Index i = (j - n) / P, k = (j - n) % P;
-        terms[q][0] = {n + i, c(k)};
-        if (k != 0) {
-          terms[q][1] = {2 * n + c_index[static_cast<std::size_t>(k)], b(i)};
-          count[q] = 2;
-          offset(static_cast<Eigen::Index>(q)) = b(i) * c(k);
-        }
-      } else {
-        terms[q][0] = {2 * n + kept_c + (j - first_extra), 1.0};
-      }
+    for (Eigen::Index q = 0; q < kept_k; ++q) c_kept(q) = c(keep[static_cast<std::size_t>(block(0) + q)] - n);
+    // offset: b_i c_k on every product column with a free c'_k.
+    Eigen::VectorXd offset = Eigen::VectorXd::Zero(K);
+    for (int i = 0; i < n; ++i) {
+      offset.segment(block(i) + first_c, kept_c) = b(i) * c_kept.segment(first_c, kept_c);
     }
-    // T' zx T x = T' (zy + zx offset): W = zx T, then M = T' W, each a column at a time.
     const Eigen::VectorXd rhs_full = zy + zx * offset;
-    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(keep.size()), R);
-    for (std::size_t q = 0; q < keep.size(); ++q) {
-      for (int e = 0; e < count[q]; ++e) {
-        const Term t = terms[q][static_cast<std::size_t>(e)];
-        W.col(t.r) += t.f * zx.col(static_cast<Eigen::Index>(q));
-      }
+    // W = zx T, one block of reduced columns at a time.
+    Eigen::MatrixXd W(K, R);
+    W.leftCols(n) = zx.leftCols(n);
+    W.middleCols(2 * n, kept_c).setZero();
+    for (int i = 0; i < n; ++i) {
+      W.col(n + i).noalias() = zx.middleCols(block(i), kept_k) * c_kept;
+      W.middleCols(2 * n, kept_c) += b(i) * zx.middleCols(block(i) + first_c, kept_c);
     }
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(R, R);
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(R);
-    for (std::size_t q = 0; q < keep.size(); ++q) {
-      for (int e = 0; e < count[q]; ++e) {
-        const Term t = terms[q][static_cast<std::size_t>(e)];
-        g(t.r) += t.f * rhs_full(static_cast<Eigen::Index>(q));
-      }
+    W.rightCols(extras) = zx.rightCols(extras);
+    // M = T' W and g = T' rhs_full, the same blocks by rows.
+    Eigen::MatrixXd M(R, R);
+    Eigen::VectorXd g(R);
+    M.topRows(n) = W.topRows(n);
+    g.head(n) = rhs_full.head(n);
+    M.middleRows(2 * n, kept_c).setZero();
+    g.segment(2 * n, kept_c).setZero();
+    for (int i = 0; i < n; ++i) {
+      M.row(n + i).noalias() = c_kept.transpose() * W.middleRows(block(i), kept_k);
+      g(n + i) = c_kept.dot(rhs_full.segment(block(i), kept_k));
+      M.middleRows(2 * n, kept_c) += b(i) * W.middleRows(block(i) + first_c, kept_c);
+      g.segment(2 * n, kept_c) += b(i) * rhs_full.segment(block(i) + first_c, kept_c);
     }
-    for (Eigen::Index col = 0; col < R; ++col) {
-      const auto w = W.col(col);
-      auto m = M.col(col);
-      for (std::size_t q = 0; q < keep.size(); ++q) {
-        const double wq = w(static_cast<Eigen::Index>(q));
-        for (int e = 0; e < count[q]; ++e) {
-          const Term t = terms[q][static_cast<std::size_t>(e)];
-          m(t.r) += t.f * wq;
-        }
-      }
-    }
+    M.bottomRows(extras) = W.bottomRows(extras);
+    g.tail(extras) = rhs_full.segment(extra_at, extras);
     std::string failure;
     const std::optional<Eigen::VectorXd> x = solve_normal_equations(M, g, false, failure);
     if (!x) break;  // keep the best model so far (the factorisation's, if this was the first step)
