@@ -19,64 +19,79 @@ RegressionShape regression_shape(int n, int P, const FlatRecording& data, const 
 
 namespace {
 
-// The entries of one lag group of a row: -y(s) in the a column, then the hat weights of phi(s) (slot = border
-// parameter, or -1 for the a column).
+// One lag group of a row, without branches: -y(s) in the a column and two hat weights (a missing one has weight 0
+// on the other's point, or on point 0), so that every sample adds the same fixed set of products.
 struct LagGroup {
-  int count = 0;
-  std::array<int, 3> slot{};
-  std::array<double, 3> value{};
+  double minus_y;
+  std::array<Eigen::Index, 2> point;
+  std::array<double, 2> weight;
 };
 
-LagGroup lag_group(const FlatRecording& data, const Basis& phi, std::size_t s) {
-  LagGroup e;
-  e.slot[0] = -1;
-  e.value[0] = -data.y[s];
-  e.count = 1;
-  const HatRow& h = phi[s];
-  for (std::size_t k = 0; k < 2; ++k) {
-    if (h.param[k] >= 0) {
-      e.slot[static_cast<std::size_t>(e.count)] = h.param[k];
-      e.value[static_cast<std::size_t>(e.count++)] = h.weight[k];
+std::vector<LagGroup> lag_groups(const FlatRecording& data, const Basis& phi) {
+  std::vector<LagGroup> groups(data.size());
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    const HatRow& h = phi[s];
+    const int first = h.param[0] >= 0 ? h.param[0] : std::max(h.param[1], 0);
+    LagGroup& e = groups[s];
+    e.minus_y = -data.y[s];
+    for (std::size_t k = 0; k < 2; ++k) {
+      e.point[k] = h.param[k] >= 0 ? h.param[k] : first;
+      e.weight[k] = h.param[k] >= 0 ? h.weight[k] : 0.0;
     }
   }
-  return e;
+  return groups;
 }
 
 // Least squares by lag sharing. The lag-i group of row t is the lag-1 group of row t - i + 1, so the sum over the
 // rows of (lag i entries) x (lag i + d entries) is the sum over s = t - i of G(s) x G(s - d): over one run of
 // consecutive rows [a, b), s runs over [a - i, b - i). Every lag shares the core [a - 1, b - n), summed once per
 // d (into the block of lags 1 and 1 + d, then copied to the blocks (i, i + d)); each lag adds its own few samples
-// at the run's two ends. This is n sums per pair of entries instead of n (n + 1) / 2, and half of the fit's
-// normal equations' time (the product columns' block of the finer tables at n = 3 is ~300 wide).
+// at the run's two ends. This is n sums per pair of entries instead of n (n + 1) / 2 (the product columns' block
+// of the finer tables at n = 3 is ~360 wide, and this is a diagnosis' most frequent computation).
 NormalEquations least_squares_equations(const RegressionShape& g, const FlatRecording& data,
                                         const ModelStructure& structure, const Basis& phi) {
-  const int n = g.n, P = g.P;
+  const int n = g.n;
+  const Eigen::Index P = g.P;
   NormalEquations ne;
   ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
   ne.zy = Eigen::VectorXd::Zero(g.cols);
+  auto& zx = ne.zx;
   const Eigen::Index level = n + n * P;  // the offset kappa0's column; kappa1's follows it
   const double dtau = tau(1, data.size());  // tau(t) = t dtau
-  const auto column = [&](int slot, int lag) -> Eigen::Index {
-    return slot < 0 ? lag - 1 : n + static_cast<Eigen::Index>(lag - 1) * P + slot;
-  };
-  // Lag i's group at s times lag j's at s - (j - i), i <= j, into the upper triangle (each unordered pair of a
-  // group with itself once).
-  const auto add_products = [&](const LagGroup& x, int i, const LagGroup& y, int j) {
-    for (int p = 0; p < x.count; ++p) {
-      const Eigen::Index cx = column(x.slot[static_cast<std::size_t>(p)], i);
-      const double vx = x.value[static_cast<std::size_t>(p)];
-      for (int q = i == j ? p : 0; q < y.count; ++q) {
-        const Eigen::Index cy = column(y.slot[static_cast<std::size_t>(q)], j);
-        ne.zx(std::min(cx, cy), std::max(cx, cy)) += vx * y.value[static_cast<std::size_t>(q)];
+  const std::vector<LagGroup> groups = lag_groups(data, phi);
+  const auto a_col = [](int lag) -> Eigen::Index { return lag - 1; };
+  const auto p_col = [&](int lag, Eigen::Index point) { return n + (lag - 1) * P + point; };
+  // The products of lag i's group at s and lag j's at s - (j - i), i <= j, into the upper triangle (a group with
+  // itself: each unordered pair once; the a columns come before every product column, lag i's products before
+  // lag j's).
+  const auto add_products = [&](std::size_t s, int i, int j) {
+    const LagGroup& x = groups[s];
+    const LagGroup& z = groups[s - static_cast<std::size_t>(j - i)];
+    zx(a_col(i), a_col(j)) += x.minus_y * z.minus_y;
+    for (std::size_t k = 0; k < 2; ++k) {
+      zx(a_col(i), p_col(j, z.point[k])) += x.minus_y * z.weight[k];
+      if (i != j) zx(a_col(j), p_col(i, x.point[k])) += z.minus_y * x.weight[k];
+    }
+    if (i == j) {
+      const Eigen::Index lo = std::min(x.point[0], x.point[1]), hi = std::max(x.point[0], x.point[1]);
+      zx(p_col(i, x.point[0]), p_col(i, x.point[0])) += x.weight[0] * x.weight[0];
+      zx(p_col(i, x.point[1]), p_col(i, x.point[1])) += x.weight[1] * x.weight[1];
+      zx(p_col(i, lo), p_col(i, hi)) += x.weight[0] * x.weight[1];
+    } else {
+      for (std::size_t k = 0; k < 2; ++k) {
+        for (std::size_t l = 0; l < 2; ++l) zx(p_col(i, x.point[k]), p_col(j, z.point[l])) += x.weight[k] * z.weight[l];
       }
     }
   };
-  // Lag i's group at s times the level columns of row s + i.
-  const auto add_levels = [&](const LagGroup& x, int i, double one, double tau_t) {
-    for (int p = 0; p < x.count; ++p) {
-      const Eigen::Index cx = column(x.slot[static_cast<std::size_t>(p)], i);
-      ne.zx(cx, level) += one * x.value[static_cast<std::size_t>(p)];
-      if (structure.drift) ne.zx(cx, level + 1) += tau_t * x.value[static_cast<std::size_t>(p)];
+  // Lag i's group at s times the level columns of row s + i (1 and tau(s + i)).
+  const auto add_levels = [&](std::size_t s, int i) {
+    const LagGroup& x = groups[s];
+    const double tau_t = static_cast<double>(s + static_cast<std::size_t>(i)) * dtau;
+    zx(a_col(i), level) += x.minus_y;
+    for (std::size_t k = 0; k < 2; ++k) zx(p_col(i, x.point[k]), level) += x.weight[k];
+    if (structure.drift) {
+      zx(a_col(i), level + 1) += tau_t * x.minus_y;
+      for (std::size_t k = 0; k < 2; ++k) zx(p_col(i, x.point[k]), level + 1) += tau_t * x.weight[k];
     }
   };
   std::vector<std::pair<std::size_t, std::size_t>> runs;
@@ -92,29 +107,31 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
     const std::size_t lo = run.first - 1;
     return std::pair{lo, std::max(lo, run.second >= un ? run.second - un : 0)};
   };
-  // 1. The cores, on the blocks of lag 1; the level columns' sums (sum G(s) and sum G(s) tau(s)) apart.
-  Eigen::VectorXd sum_one = Eigen::VectorXd::Zero(P + 1), sum_tau = Eigen::VectorXd::Zero(P + 1);  // slot + 1
+  // 1. The cores, on the blocks of lag 1; the level columns' sums (sum G(s) and sum G(s) tau(s)) apart, as
+  // (a, products) vectors.
+  Eigen::VectorXd sum_one = Eigen::VectorXd::Zero(P + 1), sum_tau = Eigen::VectorXd::Zero(P + 1);
   for (const auto& run : runs) {
     const auto [lo, hi] = core(run);
     for (std::size_t s = lo; s < hi; ++s) {
-      const LagGroup x = lag_group(data, phi, s);
-      for (int d = 0; d < n; ++d) add_products(x, 1, lag_group(data, phi, s - static_cast<std::size_t>(d)), 1 + d);
-      for (int p = 0; p < x.count; ++p) {
-        const auto k = static_cast<Eigen::Index>(x.slot[static_cast<std::size_t>(p)] + 1);
-        sum_one(k) += x.value[static_cast<std::size_t>(p)];
-        sum_tau(k) += x.value[static_cast<std::size_t>(p)] * tau(s, data.size());
+      for (int d = 0; d < n; ++d) add_products(s, 1, 1 + d);
+      const LagGroup& x = groups[s];
+      const double tau_s = static_cast<double>(s) * dtau;
+      sum_one(0) += x.minus_y;
+      sum_tau(0) += tau_s * x.minus_y;
+      for (std::size_t k = 0; k < 2; ++k) {
+        sum_one(1 + x.point[k]) += x.weight[k];
+        sum_tau(1 + x.point[k]) += tau_s * x.weight[k];
       }
     }
   }
   // 2. Copied to the blocks (i, i + d): a_i a_j, a_i x products_j, a_j x products_i, products_i x products_j.
   for (int d = 0; d < n; ++d) {
-    const int j1 = 1 + d;
     for (int i = 2; i + d <= n; ++i) {
       const int j = i + d;
-      ne.zx(i - 1, j - 1) = ne.zx(0, j1 - 1);
-      ne.zx.block(i - 1, column(0, j), 1, P) = ne.zx.block(0, column(0, j1), 1, P);
-      ne.zx.block(j - 1, column(0, i), 1, P) = ne.zx.block(j1 - 1, column(0, 1), 1, P);
-      ne.zx.block(column(0, i), column(0, j), P, P) = ne.zx.block(column(0, 1), column(0, j1), P, P);
+      zx(a_col(i), a_col(j)) = zx(a_col(1), a_col(1 + d));
+      zx.block(a_col(i), p_col(j, 0), 1, P) = zx.block(a_col(1), p_col(1 + d, 0), 1, P);
+      zx.block(a_col(j), p_col(i, 0), 1, P) = zx.block(a_col(1 + d), p_col(1, 0), 1, P);
+      zx.block(p_col(i, 0), p_col(j, 0), P, P) = zx.block(p_col(1, 0), p_col(1 + d, 0), P, P);
     }
   }
   // 3. Each lag's ends of each run.
@@ -125,39 +142,41 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
       const std::size_t begin = run.first - ui, end = run.second - ui;
       for (const auto& [from, to] : {std::pair{begin, std::min(lo, end)}, std::pair{hi, end}}) {
         for (std::size_t s = from; s < to; ++s) {
-          const LagGroup x = lag_group(data, phi, s);
-          for (int j = i; j <= n; ++j) add_products(x, i, lag_group(data, phi, s - static_cast<std::size_t>(j - i)), j);
-          add_levels(x, i, 1.0, tau(s + ui, data.size()));
+          for (int j = i; j <= n; ++j) add_products(s, i, j);
+          add_levels(s, i);
         }
       }
     }
   }
   // 4. The cores' level sums, for every lag: tau(s + i) = tau(s) + i dtau.
   for (int i = 1; i <= n; ++i) {
-    for (Eigen::Index k = 0; k <= P; ++k) {
-      const Eigen::Index c = column(static_cast<int>(k) - 1, i);
-      ne.zx(c, level) += sum_one(k);
-      if (structure.drift) ne.zx(c, level + 1) += sum_tau(k) + static_cast<double>(i) * dtau * sum_one(k);
+    const double shift = static_cast<double>(i) * dtau;
+    zx(a_col(i), level) += sum_one(0);
+    zx.block(p_col(i, 0), level, P, 1) += sum_one.tail(P);
+    if (structure.drift) {
+      zx(a_col(i), level + 1) += sum_tau(0) + shift * sum_one(0);
+      zx.block(p_col(i, 0), level + 1, P, 1) += sum_tau.tail(P) + shift * sum_one.tail(P);
     }
   }
   // 5. What depends on the row itself: the targets and the level columns.
   for (std::size_t t : g.rows) {
-    const double y = data.y[t], tt = tau(t, data.size());
+    const double y = data.y[t], tau_t = static_cast<double>(t) * dtau;
     ne.yy += y * y;
     for (int i = 1; i <= n; ++i) {
-      const LagGroup x = lag_group(data, phi, t - static_cast<std::size_t>(i));
-      for (int p = 0; p < x.count; ++p) ne.zy(column(x.slot[static_cast<std::size_t>(p)], i)) += x.value[static_cast<std::size_t>(p)] * y;
+      const LagGroup& x = groups[t - static_cast<std::size_t>(i)];
+      ne.zy(a_col(i)) += x.minus_y * y;
+      for (std::size_t k = 0; k < 2; ++k) ne.zy(p_col(i, x.point[k])) += x.weight[k] * y;
     }
-    ne.zx(level, level) += 1.0;
+    zx(level, level) += 1.0;
     ne.zy(level) += y;
     if (structure.drift) {
-      ne.zx(level, level + 1) += tt;
-      ne.zx(level + 1, level + 1) += tt * tt;
-      ne.zy(level + 1) += tt * y;
+      zx(level, level + 1) += tau_t;
+      zx(level + 1, level + 1) += tau_t * tau_t;
+      ne.zy(level + 1) += tau_t * y;
     }
   }
-  ne.zx.triangularView<Eigen::StrictlyLower>() = ne.zx.transpose();
-  ne.energy = ne.zx.diagonal();
+  zx.triangularView<Eigen::StrictlyLower>() = zx.transpose();
+  ne.energy = zx.diagonal();
   return ne;
 }
 

@@ -109,21 +109,25 @@ int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const 
   int steps = 0;
   for (int iteration = 0; iteration < kRankOneIterations; ++iteration) {
     for (Eigen::Index q = 0; q < kept_k; ++q) c_kept(q) = c(keep[static_cast<std::size_t>(block(0) + q)] - n);
-    // offset: b_i c_k on every product column with a free c'_k.
-    Eigen::VectorXd offset = Eigen::VectorXd::Zero(K);
-    for (int i = 0; i < n; ++i) {
-      offset.segment(block(i) + first_c, kept_c) = b(i) * c_kept.segment(first_c, kept_c);
-    }
-    const Eigen::VectorXd rhs_full = zy + zx * offset;
-    // W = zx T, one block of reduced columns at a time.
+    // W = zx T, one pass over the product columns (each column of zx feeds both of its reduced columns while it
+    // is in cache), and zx offset from it: offset = b_i c_k on every product column with a free c'_k, so
+    // zx offset = sum_i b_i (W_(b'_i) - c_0 zx_(i, 0)).
     Eigen::MatrixXd W(K, R);
     W.leftCols(n) = zx.leftCols(n);
-    W.middleCols(2 * n, kept_c).setZero();
+    W.middleCols(n, n + kept_c).setZero();
     for (int i = 0; i < n; ++i) {
-      W.col(n + i).noalias() = zx.middleCols(block(i), kept_k) * c_kept;
-      W.middleCols(2 * n, kept_c) += b(i) * zx.middleCols(block(i) + first_c, kept_c);
+      for (Eigen::Index q = 0; q < kept_k; ++q) {
+        const auto column = zx.col(block(i) + q);
+        W.col(n + i) += c_kept(q) * column;
+        if (q >= first_c) W.col(2 * n + q - first_c) += b(i) * column;
+      }
     }
     W.rightCols(extras) = zx.rightCols(extras);
+    Eigen::VectorXd rhs_full = zy;
+    for (int i = 0; i < n; ++i) {
+      rhs_full += b(i) * W.col(n + i);
+      if (c0_kept) rhs_full -= (b(i) * c_kept(0)) * zx.col(block(i));
+    }
     // M = T' W and g = T' rhs_full, the same blocks by rows.
     Eigen::MatrixXd M(R, R);
     Eigen::VectorXd g(R);
