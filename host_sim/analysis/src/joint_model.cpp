@@ -37,7 +37,6 @@ using detail::RegressionShape;
 using detail::solve_normal_equations;
 using detail::SmoothnessStencil;
 using detail::tau;
-using detail::visit_rows;
 
 namespace {
 
@@ -193,13 +192,13 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
     if (rank_one) refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), theta);
   }
+  const std::vector<double> fitted = detail::fitted_values(g, data, structure, phi, theta);
   model.residuals.reserve(g.rows.size());
-  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
-    double fitted = 0;
-    for (const Entry& e : x) fitted += e.value * theta(e.column);
-    model.residuals.push_back(y - fitted);
-    model.rss += (y - fitted) * (y - fitted);
-  });
+  for (std::size_t r = 0; r < g.rows.size(); ++r) {
+    const double e = data.y[g.rows[r]] - fitted[r];
+    model.residuals.push_back(e);
+    model.rss += e * e;
+  }
   model.residual_t = g.rows;
   model.residual_variance = model.rss / static_cast<double>(g.rows.size() - keep.size());
   model.a.assign(theta.data(), theta.data() + n);

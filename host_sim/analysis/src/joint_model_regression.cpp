@@ -182,6 +182,27 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
 
 }  // namespace
 
+std::vector<double> fitted_values(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                                  const Basis& phi, const Eigen::VectorXd& theta) {
+  const std::vector<LagGroup> groups = lag_groups(data, phi);
+  const Eigen::Index level = g.n + g.n * static_cast<Eigen::Index>(g.P);
+  std::vector<double> fitted;
+  fitted.reserve(g.rows.size());
+  for (std::size_t t : g.rows) {
+    double sum = 0;
+    for (int i = 1; i <= g.n; ++i) {
+      const LagGroup& x = groups[t - static_cast<std::size_t>(i)];
+      const Eigen::Index products = g.n + static_cast<Eigen::Index>(i - 1) * g.P;
+      sum += x.minus_y * theta(i - 1);
+      for (std::size_t k = 0; k < 2; ++k) sum += x.weight[k] * theta(products + x.point[k]);
+    }
+    sum += theta(level);
+    if (structure.drift) sum += tau(t, data.size()) * theta(level + 1);
+    fitted.push_back(sum);
+  }
+  return fitted;
+}
+
 NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
                                  const Basis& phi, const std::vector<double>* instruments_y) {
   if (instruments_y == nullptr) return least_squares_equations(g, data, structure, phi);

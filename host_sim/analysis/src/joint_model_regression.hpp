@@ -63,4 +63,8 @@ RegressionShape regression_shape(int n, int P, const FlatRecording& data, const 
 NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
                                  const Basis& phi, const std::vector<double>* instruments_y);
 
+/// The regression's fitted values X theta on the rows of `g` (the outputs' lags), in the rows' order.
+std::vector<double> fitted_values(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                                  const Basis& phi, const Eigen::VectorXd& theta);
+
 }  // namespace lashid::sim::detail
