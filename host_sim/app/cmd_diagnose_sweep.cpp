@@ -58,7 +58,7 @@ std::string names(std::span<const Cause> causes) {
 }
 
 // The true structure (the hidden causes with their true sizes, the true operator) fitted on the identification
-// phases by the same joint least squares: the val fit a perfect diagnosis reaches from these experiments. With
+// phases by the same joint least squares (under colored_noise, the diagnosis' IV and output error): the val fit a perfect diagnosis reaches from these experiments. With
 // curved borders the generator's own plant does better on val (its borders are exact between the levels, where
 // the experiments never take the operator unless an input lag does); both are reported.
 double true_structure_fit(const HiddenEffectCase& c, const DiagnosisOptions& options) {
@@ -72,7 +72,10 @@ double true_structure_fit(const HiddenEffectCase& c, const DiagnosisOptions& opt
     }
     if (cause == Cause::kDeadTime) s.delay = c.effect.delay;
     if (cause == Cause::kSensorDrift) s.drift = true;
-    if (cause == Cause::kColoredNoise) s.instrumental = true;
+    if (cause == Cause::kColoredNoise) {
+      s.instrumental = true;
+      s.output_error = options.coloured_output_error;  // the estimator the diagnosis' colored_noise model uses
+    }
   }
   const FlatRecording data = flatten(c.recording);
   const JointModel model = fit_joint_model(c.config, data, s);

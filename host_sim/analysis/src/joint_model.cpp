@@ -17,6 +17,7 @@
 #include "lashid/plant/operators.hpp"
 #include "joint_model_layout.hpp"
 #include "joint_model_regression.hpp"
+#include "joint_model_output_error.hpp"
 #include "joint_model_solve.hpp"
 #include "model_operator.hpp"
 
@@ -268,6 +269,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   const std::vector<double> w = effective_input(data.v, structure);
   ModelStructure ls_structure = structure;
   ls_structure.instrumental = false;
+  ls_structure.output_error = false;
   // A backlash's regimes depend on its borders: starting from a first guess of the regimes, refit until they no
   // longer change or a refit no longer fits better (a poor first model, e.g. of a plant with an unmodelled effect,
   // can have borders that make its backlash hold where the plant moves, leaving border points unexcited). Going on
@@ -322,6 +324,24 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
       break;
     }
     model = std::move(iv);
+  }
+  // Output error where the borders are the experiment's abscissas (a few parameters; the finer tables' hundreds
+  // would make each step a large system); the structure then says which estimator the model is.
+  model.structure.output_error = false;
+  if (structure.output_error && structure.border_segments <= 1 && model.ok) {
+    JointModel oe = model;
+    if (detail::refine_output_error(oe, layout, data)) {
+      // The one-step residuals of the refitted model on the same rows.
+      const std::vector<double> e = prediction_errors(oe, data, 0, data.size());
+      oe.rss = 0;
+      for (std::size_t k = 0; k < oe.residual_t.size(); ++k) {
+        oe.residuals[k] = e[oe.residual_t[k] - static_cast<std::size_t>(oe.n)];
+        oe.rss += oe.residuals[k] * oe.residuals[k];
+      }
+      oe.residual_variance = oe.rss / static_cast<double>(oe.rows - static_cast<std::size_t>(oe.parameters));
+      oe.structure.output_error = true;
+      model = std::move(oe);
+    }
   }
   return model;
 }

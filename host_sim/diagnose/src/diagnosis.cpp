@@ -51,6 +51,7 @@ CauseParameters combined_parameters(const Diagnosis& d) {
         break;
       case Cause::kColoredNoise:
         p.instrumental_variables = d.extended.structure.instrumental;
+        p.output_error = d.extended.structure.instrumental && d.extended.structure.output_error;
         break;
       case Cause::kOperatorType:
         p.op = d.extended.structure.op;

@@ -170,8 +170,10 @@ CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording&
       break;
     case Cause::kColoredNoise:
       s.instrumental = true;
+      s.output_error = options.coloured_output_error;
       c.model = fit_joint_model(config, data, s, &current);
       c.parameters.instrumental_variables = true;
+      c.parameters.output_error = c.model.structure.output_error;
       break;
     case Cause::kOperatorType:
       // No starting regimes from `current`: they are the other operator's.

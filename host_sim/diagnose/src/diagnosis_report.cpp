@@ -182,7 +182,7 @@ std::string to_string(const CauseParameters& p) {
   if (p.lambda) j["lambda"] = *p.lambda;
   if (p.delay) j["delay"] = *p.delay;
   if (p.drift_total) j["drift_total"] = *p.drift_total;
-  if (p.instrumental_variables) j["estimator"] = "instrumental_variables";
+  if (p.instrumental_variables) j["estimator"] = p.output_error ? "output_error" : "instrumental_variables";
   if (p.op) j["operator"] = to_string(*p.op);
   return j.dump();
 }

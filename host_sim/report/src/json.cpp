@@ -27,7 +27,9 @@ nlohmann::json to_json(const JointModel& m) {
           {"delay", m.structure.delay},
           {"drift", m.structure.drift},
           {"border_segments", m.structure.border_segments},
-          {"estimator", m.structure.instrumental ? "instrumental_variables" : "least_squares"},
+          {"estimator", m.structure.instrumental
+                            ? (m.structure.output_error ? "output_error" : "instrumental_variables")
+                            : "least_squares"},
           {"n", m.n},
           {"a", m.a},
           {"b", m.b},
