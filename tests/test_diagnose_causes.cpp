@@ -252,28 +252,25 @@ TEST(DiagnoseMechanisms, AMismatchThatRepeatsWithThePulsesIsNotColoredNoise) {
   EXPECT_LT(with.colored_check.aperiodic_correlation, 0.01);
 }
 
-// Session 10, on the tuning seeds 1140-1239. Under sensor noise with n = 3 the nominal structure's IV fit
+// Session 10, on the tuning seeds 1140-1239 (DiagnosisOptions::output_error_in_checks, off by default: chosen on the
+// tuning seeds, it lost pairs on the test seeds). Under sensor noise with n = 3 the nominal structure's IV fit
 // simulated val far below the plant (seed 1201: 25.2 % against 89.3 %), so a dead time that absorbed the noise
-// (54.3 %) passed the IV check. Refitted by output error the nominal structure simulates val at 57.0 % and the
-// dead time is refused; colored_noise is then named with the output-error model. Without it: dead_time as well.
-TEST(DiagnoseMechanisms, SensorNoiseIsModelledByOutputErrorNotByADelay) {
-  const std::array<Cause, 1> hidden{Cause::kColoredNoise};
-  expect_diagnosed_on_seeds(hidden, {1201, 1227});
-  const HiddenEffectCase c = curved_case(hidden, 1201);
-  const Diagnosis with = diagnose(c.config, c.recording, "generated");
-  EXPECT_TRUE(with.parameters.output_error);
-  DiagnosisOptions without;
-  without.coloured_output_error = false;
-  const Diagnosis d = diagnose(c.config, c.recording, "generated", without);
-  EXPECT_EQ(d.causes, (std::vector<Cause>{Cause::kDeadTime, Cause::kColoredNoise}));
-}
-
-// With the output-error reference, a true delay of one sample (n = 3, white equation error) lost the IV check to
-// the nominal structure's output-error fit, which nearly contains it (val 94.6 % against 94.8 %, seed 1144), though
-// its residuals were white (Ljung-Box Q 21 against 4668): an extension with white residuals is exempt.
-TEST(DiagnoseMechanisms, AnExtensionWithWhiteResidualsNeedsNoIvCheck) {
-  const std::array<Cause, 1> hidden{Cause::kDeadTime};
-  expect_diagnosed_on_seeds(hidden, {1144, 1162});
+// (54.3 %) passed the IV check. Refitted by output error the nominal structure simulates val at 57.0 % and the dead
+// time is refused. With the stronger reference a true delay of one sample (seed 1144: n = 3, white equation error)
+// lost the check to the nominal structure's output-error fit, which nearly contains it, though its residuals were
+// white: such an extension is exempt.
+TEST(DiagnoseMechanisms, OutputErrorInTheChecksKeepsADelayFromAbsorbingSensorNoise) {
+  DiagnosisOptions checks;
+  checks.output_error_in_checks = true;
+  const std::array<Cause, 1> noise{Cause::kColoredNoise};
+  const std::array<Cause, 1> delay{Cause::kDeadTime};
+  for (const auto& [hidden, seed] : {std::pair{std::span<const Cause>(noise), 1201}, std::pair{std::span<const Cause>(delay), 1144}}) {
+    SCOPED_TRACE(::testing::Message() << "seed " << seed);
+    const HiddenEffectCase c = curved_case(hidden, static_cast<std::uint64_t>(seed));
+    expect_found(c, diagnose(c.config, c.recording, "generated", checks));
+  }
+  const HiddenEffectCase c = curved_case(noise, 1201);
+  EXPECT_EQ(diagnose(c.config, c.recording, "generated").causes, (std::vector<Cause>{Cause::kDeadTime, Cause::kColoredNoise}));
 }
 
 }  // namespace

@@ -63,11 +63,11 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
   // An input lag whose lambda was chosen on val (the finer border tables) has a val fit flattered by that choice:
   // it must beat the IV fit by options.lag_val_optimism.
   const bool lambda_on_val = c.cause == Cause::kInputLag && c.model.structure.border_segments > 1;
-  // An extension whose residuals are white has left no coloured disturbance to absorb: the check does not apply
-  // (with the output-error reference, a true dead time of one sample lost to the nominal structure's output-error
+  // With output error in the checks, an extension whose residuals are white has left no coloured disturbance to
+  // absorb: the check does not apply (a true dead time of one sample lost to the nominal structure's output-error
   // fit, which nearly contains it: tuning seeds 1144 and 1162, residuals white with the delay).
   const bool beats_instrumental =
-      !options.instrumental_check || white(c.identification, options) ||
+      !options.instrumental_check || (options.output_error_in_checks && white(c.identification, options)) ||
       extended > current.fit_instrumental + (lambda_on_val ? options.lag_val_optimism : 0.0);
   // The large val gain may also be the IV fits' (a drift under sensor noise: least squares gained 2.5 to 4.8 points
   // on tuning seeds 1030, 1036 and 1039 of sensor_drift+colored_noise, its IV fit more than 5 over the nominal IV).
@@ -195,8 +195,11 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
                    const DiagnosisOptions& options) {
   CurrentModel current{d.nominal, d.fit_nominal, d.val_nominal, d.identification};
   // The val fit of `model`'s structure fitted by instrumental variables (the colored_noise extension).
+  // The checks' IV fits: refitted by output error only with options.output_error_in_checks.
+  DiagnosisOptions check_options = options;
+  check_options.coloured_output_error = options.coloured_output_error && options.output_error_in_checks;
   const auto instrumental_val_fit = [&](const JointModel& model) {
-    const CandidateCause iv = extend_model(config, data, model, Cause::kColoredNoise, options);
+    const CandidateCause iv = extend_model(config, data, model, Cause::kColoredNoise, check_options);
     return iv.model.ok ? val_fit(iv.model, data, d.val_begin, d.val_end) : -std::numeric_limits<double>::infinity();
   };
   const auto update_instrumental = [&]() { current.fit_instrumental = instrumental_val_fit(current.model); };
