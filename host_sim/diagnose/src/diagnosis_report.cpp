@@ -148,7 +148,10 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
     if (c.cause == Cause::kOperatorType) {
       evidence = fmt::format("val error energy x{:.2f} of the nominal", c.statistic);
     } else if (c.cause == Cause::kColoredNoise) {
-      evidence = fmt::format("instrumental variables; nominal residual whiteness {}", p_text(id.whiteness.p_value));
+      evidence = fmt::format("{}; nominal residual whiteness {}",
+                             c.parameters.output_error ? "instrumental variables, then output error"
+                                                       : "instrumental variables",
+                             p_text(id.whiteness.p_value));
     } else {
       evidence = fmt::format("likelihood ratio {:.1f} ({}), extended residuals whiteness {}", c.statistic,
                              p_text(c.p_value), p_text(c.identification.whiteness.p_value));
