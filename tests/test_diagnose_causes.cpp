@@ -264,13 +264,15 @@ TEST(DiagnoseMechanisms, OutputErrorInTheChecksKeepsADelayFromAbsorbingSensorNoi
   checks.output_error_in_checks = true;
   const std::array<Cause, 1> noise{Cause::kColoredNoise};
   const std::array<Cause, 1> delay{Cause::kDeadTime};
-  for (const auto& [hidden, seed] : {std::pair{std::span<const Cause>(noise), 1201}, std::pair{std::span<const Cause>(delay), 1144}}) {
+  for (const auto& [hidden, seed] :
+       {std::pair{std::span<const Cause>(noise), 1201}, std::pair{std::span<const Cause>(delay), 1144}}) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     const HiddenEffectCase c = curved_case(hidden, static_cast<std::uint64_t>(seed));
     expect_found(c, diagnose(c.config, c.recording, "generated", checks));
   }
   const HiddenEffectCase c = curved_case(noise, 1201);
-  EXPECT_EQ(diagnose(c.config, c.recording, "generated").causes, (std::vector<Cause>{Cause::kDeadTime, Cause::kColoredNoise}));
+  EXPECT_EQ(diagnose(c.config, c.recording, "generated").causes,
+            (std::vector<Cause>{Cause::kDeadTime, Cause::kColoredNoise}));
 }
 
 }  // namespace

@@ -74,15 +74,17 @@ TEST(NormalEquations, EqualTheDenseRegressionsProducts) {
         if (drift) X(row, n + n * P + 1) = static_cast<double>(t) / static_cast<double>(N - 1);
         y(row) = c.data.y[t];
       }
-      const detail::NormalEquations ne = detail::normal_equations(g, c.data, structure, c.phi, nullptr);
+      const std::vector<detail::LagGroup> groups = detail::lag_groups(c.data, c.phi);
+      const detail::NormalEquations ne = detail::normal_equations(g, c.data, structure, c.phi, groups, nullptr);
       const Eigen::MatrixXd xx = X.transpose() * X;
-      EXPECT_LT((ne.zx - xx).cwiseAbs().maxCoeff(), 1e-12 * xx.cwiseAbs().maxCoeff()) << "n " << n << " drift " << drift;
+      EXPECT_LT((ne.zx - xx).cwiseAbs().maxCoeff(), 1e-12 * xx.cwiseAbs().maxCoeff())
+          << "n " << n << " drift " << drift;
       EXPECT_LT((ne.zy - X.transpose() * y).cwiseAbs().maxCoeff(), 1e-12 * xx.cwiseAbs().maxCoeff())
           << "n " << n << " drift " << drift;
       EXPECT_NEAR(ne.yy, y.squaredNorm(), 1e-12 * y.squaredNorm());
       EXPECT_LT((ne.energy - xx.diagonal()).cwiseAbs().maxCoeff(), 1e-12 * xx.cwiseAbs().maxCoeff());
       // Instrumental variables with y itself as the instruments: the same equations.
-      const detail::NormalEquations iv = detail::normal_equations(g, c.data, structure, c.phi, &c.data.y);
+      const detail::NormalEquations iv = detail::normal_equations(g, c.data, structure, c.phi, groups, &c.data.y);
       EXPECT_LT((iv.zx - xx).cwiseAbs().maxCoeff(), 1e-12 * xx.cwiseAbs().maxCoeff()) << "n " << n;
     }
   }

@@ -59,7 +59,8 @@ void BM_NormalEquations(benchmark::State& state) {
   const detail::Basis phi = detail::operator_basis(layout, w, structure.op, nullptr);
   const detail::RegressionShape g = detail::regression_shape(c.config.n, layout.parameters, data, structure);
   for (auto _ : state) {
-    detail::NormalEquations ne = detail::normal_equations(g, data, structure, phi, nullptr);
+    detail::NormalEquations ne =
+        detail::normal_equations(g, data, structure, phi, detail::lag_groups(data, phi), nullptr);
     benchmark::DoNotOptimize(ne);
   }
   state.counters["columns"] = g.cols;

@@ -123,13 +123,7 @@ std::optional<Eigen::VectorXd> warm_theta(const JointModel& warm, const Layout& 
       warm.ascending_u.size() != layout.ascending.x.size() || warm.b.size() != static_cast<std::size_t>(n)) {
     return std::nullopt;
   }
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(P);
-  for (const auto* border : {&layout.descending, &layout.ascending}) {
-    const auto& u = border == &layout.descending ? warm.descending_u : warm.ascending_u;
-    for (std::size_t k = 0; k < border->param.size(); ++k) {
-      if (border->param[k] >= 0) c(border->param[k]) = u[k];
-    }
-  }
+  const Eigen::VectorXd c = detail::border_parameters(warm, layout);
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(cols);
   for (int i = 0; i < n; ++i) {
     theta(i) = warm.a[static_cast<std::size_t>(i)];
@@ -160,7 +154,8 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     model.failure = fmt::format("{} identification rows for {} parameters", g.rows.size(), cols);
     return model;
   }
-  NormalEquations ne = normal_equations(g, data, structure, phi, instruments_y);
+  const std::vector<detail::LagGroup> groups = detail::lag_groups(data, phi);
+  NormalEquations ne = normal_equations(g, data, structure, phi, groups, instruments_y);
   const bool smoothed = !layout.stencils.empty() && structure.border_smoothness > 0;
   const ExcitedColumns columns = excited_columns(ne.energy, n, P, cols, smoothed);
   add_smoothness_prior(layout, n, P, structure.border_smoothness, ne);
@@ -193,7 +188,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
     for (std::size_t i = 0; i < keep.size(); ++i) theta(keep[i]) = (*reduced)(static_cast<Eigen::Index>(i));
     if (rank_one) refine_rank_one(zx, zy, keep, n, P, ne.yy, g.rows.size(), theta);
   }
-  const std::vector<double> fitted = detail::fitted_values(g, data, structure, phi, theta);
+  const std::vector<double> fitted = detail::fitted_values(g, data, structure, groups, theta);
   model.residuals.reserve(g.rows.size());
   for (std::size_t r = 0; r < g.rows.size(); ++r) {
     const double e = data.y[g.rows[r]] - fitted[r];

@@ -83,6 +83,17 @@ Layout make_layout(const ExperimentConfig& c, int segments) {
   return l;
 }
 
+Eigen::VectorXd border_parameters(const JointModel& model, const Layout& layout) {
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(layout.parameters);
+  for (const auto* border : {&layout.descending, &layout.ascending}) {
+    const auto& u = border == &layout.descending ? model.descending_u : model.ascending_u;
+    for (std::size_t k = 0; k < border->param.size(); ++k) {
+      if (border->param[k] >= 0) c(border->param[k]) = u[k];
+    }
+  }
+  return c;
+}
+
 Basis operator_basis(const Layout& layout, const std::vector<double>& w, OperatorKind op,
                                const JointModel* current) {
   const std::size_t T = w.size();

@@ -5,6 +5,8 @@
 #include <array>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "lashid/analysis/joint_model.hpp"
 #include "lashid/io/config.hpp"
 
@@ -44,6 +46,10 @@ struct Layout {
 /// The layout of `c`'s borders with `segments` equal segments per interval between the experiment's abscissas.
 /// Throws std::invalid_argument when V_d or V_a does not have m points.
 Layout make_layout(const ExperimentConfig& c, int segments);
+
+/// The vector c of `layout`'s border parameters from `model`'s border values (which must be on `layout`'s
+/// abscissas); the references (parameter -1) have no entry.
+Eigen::VectorXd border_parameters(const JointModel& model, const Layout& layout);
 
 /// phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
 /// The switch's regime depends on the direction of w only; the backlash's also on the borders, taken from

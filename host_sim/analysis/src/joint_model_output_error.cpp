@@ -50,24 +50,13 @@ struct Parameters {
   Eigen::Index kappa0() const { return 2 * n + P - 1; }
 };
 
-Eigen::VectorXd border_vector(const JointModel& m, const Layout& layout) {
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(layout.parameters);
-  for (const auto* border : {&layout.descending, &layout.ascending}) {
-    const auto& u = border == &layout.descending ? m.descending_u : m.ascending_u;
-    for (std::size_t k = 0; k < border->param.size(); ++k) {
-      if (border->param[k] >= 0) c(border->param[k]) = u[k];
-    }
-  }
-  return c;
-}
-
 Eigen::VectorXd pack(const JointModel& m, const Layout& layout, const Parameters& p) {
   Eigen::VectorXd x(p.size());
   for (int i = 0; i < p.n; ++i) {
     x(i) = m.a[static_cast<std::size_t>(i)];
     x(p.n + i) = m.b[static_cast<std::size_t>(i)];
   }
-  const Eigen::VectorXd c = border_vector(m, layout);
+  const Eigen::VectorXd c = border_parameters(m, layout);
   for (int k = 1; k < p.P; ++k) x(p.c(k)) = c(k);
   x(p.kappa0()) = m.kappa0;
   if (p.drift) x(p.kappa0() + 1) = m.kappa1;

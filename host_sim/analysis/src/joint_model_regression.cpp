@@ -19,29 +19,6 @@ RegressionShape regression_shape(int n, int P, const FlatRecording& data, const 
 
 namespace {
 
-// One lag group of a row, without branches: -y(s) in the a column and two hat weights (a missing one has weight 0
-// on the other's point, or on point 0), so that every sample adds the same fixed set of products.
-struct LagGroup {
-  double minus_y;
-  std::array<Eigen::Index, 2> point;
-  std::array<double, 2> weight;
-};
-
-std::vector<LagGroup> lag_groups(const FlatRecording& data, const Basis& phi) {
-  std::vector<LagGroup> groups(data.size());
-  for (std::size_t s = 0; s < data.size(); ++s) {
-    const HatRow& h = phi[s];
-    const int first = h.param[0] >= 0 ? h.param[0] : std::max(h.param[1], 0);
-    LagGroup& e = groups[s];
-    e.minus_y = -data.y[s];
-    for (std::size_t k = 0; k < 2; ++k) {
-      e.point[k] = h.param[k] >= 0 ? h.param[k] : first;
-      e.weight[k] = h.param[k] >= 0 ? h.weight[k] : 0.0;
-    }
-  }
-  return groups;
-}
-
 // Least squares by lag sharing. The lag-i group of row t is the lag-1 group of row t - i + 1, so the sum over the
 // rows of (lag i entries) x (lag i + d entries) is the sum over s = t - i of G(s) x G(s - d): over one run of
 // consecutive rows [a, b), s runs over [a - i, b - i). Every lag shares the core [a - 1, b - n), summed once per
@@ -49,7 +26,7 @@ std::vector<LagGroup> lag_groups(const FlatRecording& data, const Basis& phi) {
 // at the run's two ends. This is n sums per pair of entries instead of n (n + 1) / 2 (the product columns' block
 // of the finer tables at n = 3 is ~360 wide, and this is a diagnosis' most frequent computation).
 NormalEquations least_squares_equations(const RegressionShape& g, const FlatRecording& data,
-                                        const ModelStructure& structure, const Basis& phi) {
+                                        const ModelStructure& structure, const std::vector<LagGroup>& groups) {
   const int n = g.n;
   const Eigen::Index P = g.P;
   NormalEquations ne;
@@ -58,7 +35,6 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
   auto& zx = ne.zx;
   const Eigen::Index level = n + n * P;  // the offset kappa0's column; kappa1's follows it
   const double dtau = tau(1, data.size());  // tau(t) = t dtau
-  const std::vector<LagGroup> groups = lag_groups(data, phi);
   const auto a_col = [](int lag) -> Eigen::Index { return lag - 1; };
   const auto p_col = [&](int lag, Eigen::Index point) { return n + (lag - 1) * P + point; };
   // The products of lag i's group at s and lag j's at s - (j - i), i <= j, into the upper triangle (a group with
@@ -182,9 +158,23 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
 
 }  // namespace
 
+std::vector<LagGroup> lag_groups(const FlatRecording& data, const Basis& phi) {
+  std::vector<LagGroup> groups(data.size());
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    const HatRow& h = phi[s];
+    const int first = h.param[0] >= 0 ? h.param[0] : std::max(h.param[1], 0);
+    LagGroup& e = groups[s];
+    e.minus_y = -data.y[s];
+    for (std::size_t k = 0; k < 2; ++k) {
+      e.point[k] = h.param[k] >= 0 ? h.param[k] : first;
+      e.weight[k] = h.param[k] >= 0 ? h.weight[k] : 0.0;
+    }
+  }
+  return groups;
+}
+
 std::vector<double> fitted_values(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                                  const Basis& phi, const Eigen::VectorXd& theta) {
-  const std::vector<LagGroup> groups = lag_groups(data, phi);
+                                  const std::vector<LagGroup>& groups, const Eigen::VectorXd& theta) {
   const Eigen::Index level = g.n + g.n * static_cast<Eigen::Index>(g.P);
   std::vector<double> fitted;
   fitted.reserve(g.rows.size());
@@ -204,8 +194,9 @@ std::vector<double> fitted_values(const RegressionShape& g, const FlatRecording&
 }
 
 NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                                 const Basis& phi, const std::vector<double>* instruments_y) {
-  if (instruments_y == nullptr) return least_squares_equations(g, data, structure, phi);
+                                 const Basis& phi, const std::vector<LagGroup>& groups,
+                                 const std::vector<double>* instruments_y) {
+  if (instruments_y == nullptr) return least_squares_equations(g, data, structure, groups);
   NormalEquations ne;
   ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
   ne.zy = Eigen::VectorXd::Zero(g.cols);

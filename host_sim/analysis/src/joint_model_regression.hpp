@@ -2,6 +2,7 @@
 // (joint_model.cpp fits them).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -56,15 +57,28 @@ struct NormalEquations {
   double yy = 0;  ///< sum of y^2 over the rows (least squares)
 };
 
+/// One lag group of a row, without branches: -y(s) in the a column and two hat weights (a missing one has weight 0
+/// on the other's point, or on point 0), so that every sample adds the same fixed set of products.
+struct LagGroup {
+  double minus_y;
+  std::array<Eigen::Index, 2> point;
+  std::array<double, 2> weight;
+};
+
+/// Every sample's lag group for the basis phi: computed once per fit, for its normal equations and its residuals.
+std::vector<LagGroup> lag_groups(const FlatRecording& data, const Basis& phi);
+
 /// The columns and identification rows of the regression for n, P border parameters and `structure`.
 RegressionShape regression_shape(int n, int P, const FlatRecording& data, const ModelStructure& structure);
 
-/// Least squares (Z = X, symmetric, and the sum of y^2) or, with `instruments_y`, instrumental variables.
+/// Least squares (Z = X, symmetric, and the sum of y^2, from `groups` = lag_groups(data, phi)) or, with
+/// `instruments_y`, instrumental variables.
 NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                                 const Basis& phi, const std::vector<double>* instruments_y);
+                                 const Basis& phi, const std::vector<LagGroup>& groups,
+                                 const std::vector<double>* instruments_y);
 
 /// The regression's fitted values X theta on the rows of `g` (the outputs' lags), in the rows' order.
 std::vector<double> fitted_values(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                                  const Basis& phi, const Eigen::VectorXd& theta);
+                                  const std::vector<LagGroup>& groups, const Eigen::VectorXd& theta);
 
 }  // namespace lashid::sim::detail

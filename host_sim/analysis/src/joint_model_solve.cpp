@@ -2,7 +2,6 @@
 #include "joint_model_solve.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstddef>
 

@@ -44,8 +44,8 @@ struct ModelStructure {
   int delay = 0;              ///< extra pure delay d between command and effect
   bool drift = false;         ///< y carries an offset that changes linearly over the recording
   bool instrumental = false;  ///< instrumental variables instead of least squares (disturbance not white)
-  /// With instrumental: a_i, b_i and the offsets then refitted by output error (the simulation error on the
-  /// identification phases), the borders' shape kept.
+  /// With instrumental: a_i, b_i, the border values and the offsets then refitted by output error (the simulation
+  /// error on the identification phases), where the borders are the experiment's abscissas (border_segments 1).
   bool output_error = false;
   /// Segments per interval between the experiment's abscissas in the border tables (1: the abscissas only). More
   /// segments only matter where the operator's input moves between the levels (an input lag): there a real
