@@ -97,6 +97,22 @@ TEST_F(OperatorFitCli, FitsTheOperatorPerBandTension) {
   for (const auto& file : {kTest1, kTest2}) {
     EXPECT_EQ(j["fit_test"][file]["extended_tension"], j["extended_tension"]["fit_test"][file]);
   }
+  // The profiles over each test file's unknowns: 41 initial offsets, and tensions 24..42 lb (one training span
+  // beyond each end) by 1 lb. The file's own tension is on that grid and is the final model as run.
+  const std::vector<double> own{30.0, 36.0};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const std::string file = i == 0 ? kTest1 : kTest2;
+    const json& profiles = j["test_profiles"][file];
+    EXPECT_EQ(profiles["initial_offset"]["points"].size(), 41U) << file;
+    const json& tension = profiles["tension"];
+    ASSERT_EQ(tension["points"].size(), 19U) << file;
+    EXPECT_EQ(tension["points"][0][0], 24.0);
+    EXPECT_EQ(tension["points"][18][0], 42.0);
+    const double as_run = j["fit_test"][file]["extended_dynamics"].get<double>();
+    const auto at_own = static_cast<std::size_t>(own[i] - 24.0);
+    EXPECT_DOUBLE_EQ(tension["points"][at_own][1].get<double>(), as_run) << file;
+    EXPECT_GE(tension["best_fit"].get<double>(), as_run) << file;
+  }
   EXPECT_TRUE(Contains(j["tension_in_words"]["text"].get<std::string>(), "scales with band tension"));
 }
 

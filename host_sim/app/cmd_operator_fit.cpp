@@ -21,6 +21,7 @@
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
+#include "lashid/operator_fit/test_profiles.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/plot.hpp"
 #include "lashid/report/report.hpp"
@@ -121,6 +122,7 @@ struct TestResults {
   json fit_tension = json::object();   // file -> fit (%) of the operator per band tension (when on)
   json fit_dynamics = json::object();  // file -> fit (%) of the final operator followed by B/A
   json loops = json::object();         // file -> the loop analyses
+  json profiles = json::object();      // file -> the final model's fit profiles over the record's unknowns
   std::vector<LoopAnalysis> nominal;
   std::vector<LoopAnalysis> final_operator;  // the tension model when on, else the tension-blind extended one
   TestErrors dynamics_gain;  // squared errors of the final operator without and with the dynamics
@@ -135,7 +137,7 @@ double squared_error(const DamperRecord& rec, const std::vector<double>& u_sim) 
 
 // Simulates the models on every test file, prints their fits and loop analyses, and adds one panel per file.
 TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const NominalFit& nominal,
-                                const HysteresisOperator& nominal_op, const HysteresisOperator& extended_op,
+                                const HysteresisOperator& nominal_op, const FrictionGapOperator& extended_op,
                                 const Tensions& tensions, const OutputFilter& dynamics, double rate,
                                 const LoopPhaseOptions& phase_options, report::plot::Figure& figure) {
   TestResults out;
@@ -187,6 +189,20 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
                "that fast part fits at most {:.1f} %\n",
                tensions.fit ? "Tension" : "Extended", 100 * osc.fast_share, osc.peak_amplitude, osc.peak_hz,
                ceiling);
+    // Two things a test record does not tell, profiled for the final model (test_profiles.hpp): the slider's
+    // initial position and the band tension (one training span beyond each end). Bounds, not scores.
+    const auto at_tension = tensions.fit ? tensions.fit->make(tensions.test[i]) : nullptr;
+    const FitProfile start = initial_offset_profile(at_tension ? *at_tension : extended_op, dynamics, rec);
+    print_profile(start, "slider's initial position", f_dyn);
+    out.profiles[rec.source]["initial_offset"] = profile_json(start);
+    if (tensions.fit) {
+      const double lowest = tensions.fit->tensions.front().tension_lb, highest = tensions.fit->tensions.back().tension_lb;
+      const double span = highest - lowest;
+      const FitProfile tension = tension_profile(*tensions.fit, dynamics, rec, std::max(lowest - span, 0.0),
+                                                 highest + span, 1.0);
+      print_profile(tension, "band tension", f_dyn);
+      out.profiles[rec.source]["tension"] = profile_json(tension);
+    }
     out.nominal.push_back(a_nom);
     out.final_operator.push_back(a_fin);
     out.loops[rec.source] = {{"nominal", analysis_json(a_nom)},
@@ -372,6 +388,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
       {"fit_test", summary_json(results)},
       {"cause", causes_json(causes)},
       {"loop_analysis", results.loops},
+      {"test_profiles", results.profiles},
       {"identification", identification}};
   write_outputs(args, figure, document);
   return 0;

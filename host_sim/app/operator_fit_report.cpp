@@ -203,4 +203,19 @@ report::plot::Panel fitted_models_panel(const NominalFit& nominal, const Extende
   return panel;
 }
 
+json profile_json(const sim::FitProfile& profile) {
+  json points = json::array();
+  for (const auto& [value, fit] : profile.points) points.push_back({value, fit});
+  return {{"parameter", profile.parameter},
+          {"points", points},
+          {"best_value", profile.best_value},
+          {"best_fit", profile.best_fit}};
+}
+
+void print_profile(const sim::FitProfile& profile, const std::string& what, double used_fit) {
+  fmt::print("  {}: the final model fits {:.1f} % as run; the best of {} values, {} = {:.3g}, fits {:.1f} % (chosen "
+             "on this file: a bound, not a score)\n",
+             what, used_fit, profile.points.size(), profile.parameter, profile.best_value, profile.best_fit);
+}
+
 }  // namespace lashid::app

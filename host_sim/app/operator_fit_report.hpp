@@ -12,6 +12,7 @@
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
+#include "lashid/operator_fit/test_profiles.hpp"
 #include "lashid/report/plot.hpp"
 
 namespace lashid::app {
@@ -35,6 +36,10 @@ nlohmann::json extended_json(const sim::ExtendedFit& extended, const sim::Hyster
 /// The operator per band tension: r, G and k per training tension, the plateau slopes, and its test fits.
 nlohmann::json tension_json(const sim::TensionFrictionFit& fit, const nlohmann::json& fit_test);
 void print_tension(const sim::TensionFrictionFit& fit);
+/// A profile over an unknown of a test record (test_profiles.hpp): every (value, fit) and the best.
+nlohmann::json profile_json(const sim::FitProfile& profile);
+/// One line: the fit at the value used, and the best value and its fit, as a bound and not a score.
+void print_profile(const sim::FitProfile& profile, const std::string& what, double used_fit);
 /// The figure's last panel: the nominal borders and G of the extended operator (and of each training tension).
 report::plot::Panel fitted_models_panel(const sim::NominalFit& nominal, const sim::ExtendedFit& extended,
                                         const sim::TensionFrictionFit* tension);

@@ -8,7 +8,6 @@
 
 #include <fmt/format.h>
 
-
 namespace lashid::sim {
 
 FrictionGapOperator::FrictionGapOperator(Border curve, double stiffness)
@@ -40,6 +39,13 @@ void FrictionGapOperator::reset(double v_prev, double u_prev) {
     e = std::fabs(curve_(lo) - level) < std::fabs(curve_(hi) - level) ? lo : hi;
   }
   z_ = v_prev - e;
+}
+
+void FrictionGapOperator::place(double v_prev, double offset) {
+  if (!std::isfinite(v_prev) || !std::isfinite(offset)) {
+    throw std::invalid_argument("FrictionGapOperator::place: position or offset is not finite");
+  }
+  z_ = v_prev - std::clamp(offset, curve_.lo(), curve_.hi());
 }
 
 std::unique_ptr<HysteresisOperator> FrictionGapOperator::clone() const {

@@ -30,6 +30,10 @@ class FrictionGapOperator final : public HysteresisOperator {
   // the one nearest to the middle of the play (the gap is a set of them); if u_prev is out of G's range, the end of
   // the play whose force is nearest.
   void reset(double v_prev, double u_prev) override;
+  // Places the slider at relative displacement `offset` from v_prev (clamped to the play): z = v_prev - offset. For
+  // a state that the force cannot tell (inside the zero-force gap every offset gives the same force). Throws
+  // std::invalid_argument for a non-finite argument.
+  void place(double v_prev, double offset);
   std::unique_ptr<HysteresisOperator> clone() const override;
   std::string name() const override;
 
