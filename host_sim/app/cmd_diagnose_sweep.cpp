@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "sweep_oracle.hpp"
 #include "lashid/analysis/joint_model.hpp"
 #include "lashid/diagnose/diagnosis.hpp"
 #include "lashid/io/files.hpp"
@@ -57,11 +59,9 @@ std::string names(std::span<const Cause> causes) {
   return text;
 }
 
-// The true structure (the hidden causes with their true sizes, the true operator) fitted on the identification
-// phases by the same joint least squares (under colored_noise, the diagnosis' IV and output error): the val fit a perfect diagnosis reaches from these experiments. With
-// curved borders the generator's own plant does better on val (its borders are exact between the levels, where
-// the experiments never take the operator unless an input lag does); both are reported.
-double true_structure_fit(const HiddenEffectCase& c, const DiagnosisOptions& options) {
+// The true structure (the hidden causes with their true sizes, the true operator), as the diagnosis would fit it
+// (under colored_noise, the diagnosis' IV and output error).
+ModelStructure true_structure(const HiddenEffectCase& c, const DiagnosisOptions& options) {
   ModelStructure s;
   s.op = c.effect.true_operator;
   for (Cause cause : c.effect.causes) {
@@ -77,15 +77,30 @@ double true_structure_fit(const HiddenEffectCase& c, const DiagnosisOptions& opt
       s.output_error = options.coloured_output_error;  // the estimator the diagnosis' colored_noise model uses
     }
   }
+  return s;
+}
+
+// The true structure fitted on the identification phases by the same joint least squares, and the val fit of its
+// simulation: what a perfect diagnosis reaches from these experiments. With curved borders the generator's own
+// plant does better on val (its borders are exact between the levels, where the experiments never take the
+// operator unless an input lag does); both are reported. With `oracle`, also the check of sweep_oracle.hpp.
+struct TrueStructureFit {
+  double fit = -std::numeric_limits<double>::infinity();
+  std::optional<OracleCheck> oracle;
+};
+
+TrueStructureFit true_structure_fit(const HiddenEffectCase& c, const DiagnosisOptions& options, bool oracle) {
+  const ModelStructure s = true_structure(c, options);
   const FlatRecording data = flatten(c.recording);
   const JointModel model = fit_joint_model(c.config, data, s);
-  if (!model.ok) return -std::numeric_limits<double>::infinity();
+  TrueStructureFit out;
+  if (!model.ok) return out;
+  if (oracle) out.oracle = oracle_check(c, data, s, model);
   const std::size_t begin = data.size() - c.recording.phase(Phase::kVal).size();
   const std::vector<double> simulated = simulate_segment(model, data, begin, data.size());
-  if (!std::all_of(simulated.begin(), simulated.end(), [](double x) { return std::isfinite(x); })) {
-    return -std::numeric_limits<double>::infinity();
-  }
-  return stats::fit_percent(std::span<const double>(data.y).subspan(begin), simulated);
+  if (!std::all_of(simulated.begin(), simulated.end(), [](double x) { return std::isfinite(x); })) return out;
+  out.fit = stats::fit_percent(std::span<const double>(data.y).subspan(begin), simulated);
+  return out;
 }
 
 // One diagnosed case scored against the truth. The fit requirement (fit_extended >= the true structure's fit - 3)
@@ -165,7 +180,8 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
       diagnosis_seconds += seconds;
       slowest = std::max(slowest, seconds);
       const double fit_plant = stats::fit_percent(d.val_measured, c.val_true_output);
-      const double fit_true = true_structure_fit(c, defaults);
+      const TrueStructureFit truth = true_structure_fit(c, defaults, args.oracle);
+      const double fit_true = truth.fit;
       const Score s = score(c, d, fit_true, fit_plant);
       const std::string found = names(d.causes);
       ++row.found[found];
@@ -183,7 +199,8 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
                        {"fit_true_structure", fit_true}, {"fit_plant", fit_plant}, {"n", c.config.n}, {"m", c.config.m}, {"seconds", seconds},
                        {"truth", {{"lambda", c.effect.lambda}, {"delay", c.effect.delay},
                                   {"drift_total", c.effect.drift_total}, {"snr_db", c.effect.sensor_snr_db},
-                                  {"operator", to_string(c.effect.true_operator)}}}});
+                                  {"operator", to_string(c.effect.true_operator)}}},
+                       {"oracle", to_json(truth.oracle)}});
       if (args.verbose) {
         std::string steps;
         for (const AddedCause& a : d.added) {
@@ -199,6 +216,14 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
                    s.hit() ? "hit " : "MISS", row.hidden, seed, c.config.n, c.config.m,
                    to_string(c.effect.true_operator), found, to_string(d.parameters), d.fit_nominal, d.fit_extended,
                    fit_true, c.effect.lambda, c.effect.delay, c.effect.drift_total, steps, seconds, fit_plant);
+        if (truth.oracle) {
+          const OracleCheck& o = *truth.oracle;
+          fmt::print("     oracle (one-step error / rows x noise variance; val fit): true plant on the fit's tables "
+                     "{:.2f} ({:.1f} %); true-structure fit {:.2f} as fitted, {:.2f} with its own regimes ({:.1f} "
+                     "%); fitted from the true regimes {:.2f} as fitted, {:.2f} with its own ({:.1f} %)\n",
+                     o.truth, o.val_truth, o.fit_rss, o.fit_consistent, o.val_fit, o.from_true_regimes_rss,
+                     o.from_true_regimes, o.val_from_true_regimes);
+        }
         std::fflush(stdout);
       }
     }

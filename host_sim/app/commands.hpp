@@ -106,6 +106,7 @@ struct DiagnoseSweepArgs {
   std::vector<std::string> rows;   // only these rows (hidden causes, e.g. input_lag+sensor_drift); empty: all
   std::string json_out;
   bool verbose = false;
+  bool oracle = false;  // also put the generator's plant on each true-structure fit's tables (sweep_oracle.hpp)
 };
 int run_diagnose_sweep(const DiagnoseSweepArgs& args);
 

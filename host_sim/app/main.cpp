@@ -211,6 +211,9 @@ CLI::App* add_diagnose_sweep(CLI::App& app, DiagnoseSweepArgs& args) {
                   "repeatable");
   cmd->add_option("--json", args.json_out, "Write the matrix and every case as JSON");
   cmd->add_flag("--verbose", args.verbose, "Print every case");
+  cmd->add_flag("--oracle", args.oracle,
+                "Also put the generator's plant on each true-structure fit's border tables and compare one-step "
+                "errors and val fits (cases with input lag or dead time only; costs one more fit per case)");
   return cmd;
 }
 

@@ -1,7 +1,9 @@
 // Simulation and one-step prediction of a JointModel, and the flat view of a recording it works on.
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -96,6 +98,45 @@ std::vector<double> prediction_errors(const JointModel& model, const FlatRecordi
     e.push_back(data.y[t] - model_equation(model, data, u, t, past));
   }
   return e;
+}
+
+double self_consistent_rss(const JointModel& model, const FlatRecording& data) {
+  if (!model.ok) throw std::invalid_argument("self_consistent_rss: the model is not fitted");
+  const std::vector<double> e = prediction_errors(model, data, 0, data.size());
+  double sum = 0;
+  for (std::size_t t : model.residual_t) {
+    const std::size_t k = t - static_cast<std::size_t>(model.n);
+    sum += e.at(k) * e.at(k);
+  }
+  return sum;
+}
+
+JointModel with_true_plant(const JointModel& model, const std::vector<double>& a, const std::vector<double>& b,
+                           const Border& ascending, const Border& descending) {
+  const auto n = static_cast<std::size_t>(model.n);
+  if (a.size() != n || b.size() != n) {
+    throw std::invalid_argument("with_true_plant: a and b need " + std::to_string(n) + " coefficients each");
+  }
+  const double u_max = descending(model.v_max);
+  const double rise = u_max - descending(model.v_min);
+  if (!(rise != 0.0) || !std::isfinite(rise)) throw std::invalid_argument("with_true_plant: C_d(v_max) = C_d(v_min)");
+  JointModel truth = model;
+  truth.a = a;
+  truth.b = b;
+  double b_sum = 0;
+  for (double& x : truth.b) {
+    b_sum += x;
+    x *= rise;
+  }
+  truth.kappa0 = b_sum * u_max;
+  for (std::size_t k = 0; k < truth.descending_v.size(); ++k) {
+    truth.descending_u[k] = (descending(truth.descending_v[k]) - u_max) / rise;
+  }
+  for (std::size_t k = 0; k < truth.ascending_v.size(); ++k) {
+    truth.ascending_u[k] = (ascending(truth.ascending_v[k]) - u_max) / rise;
+  }
+  truth.ok = true;
+  return truth;
 }
 
 }  // namespace lashid::sim

@@ -292,6 +292,7 @@ HiddenEffectCase generate_hidden_effect_case(std::span<const Cause> causes, std:
   const Border& ascending = borders.first;
   const Border& descending = borders.second;
   c.effect.border_v = grid;
+  c.effect.borders = std::make_shared<const std::pair<Border, Border>>(borders);
   for (double v : grid) {
     c.effect.border_ascending.push_back(ascending(v));
     c.effect.border_descending.push_back(descending(v));

@@ -25,6 +25,7 @@
 
 #include "lashid/io/config.hpp"
 #include "lashid/io/recording.hpp"
+#include "lashid/plant/border.hpp"
 
 namespace lashid::sim {
 
@@ -98,6 +99,18 @@ std::vector<double> operator_output(const JointModel& model, const FlatRecording
 /// (the state carried over from the recording), the operator state comes from running it from t = 0.
 std::vector<double> simulate_segment(const JointModel& model, const FlatRecording& data, std::size_t begin,
                                      std::size_t end);
+
+/// The model's own one-step squared error over its residual rows (residual_t): its operator run on its own borders,
+/// so a backlash takes the regimes its borders give. `rss` is instead the regression's error with the regimes the
+/// model was fitted with; the two differ where a fit's borders would make its backlash move or hold elsewhere.
+double self_consistent_rss(const JointModel& model, const FlatRecording& data);
+
+/// `model` with a known plant in place of its estimates, on `model`'s own border tables and in its scaling (3.11c):
+/// a and b (b_1..b_n, the plant's units) and the borders sampled at the tables' abscissas, u~ = (F - u_M) / K with
+/// u_M = C_d(v_max), K = u_M - C_d(v_min), b scaled by K, kappa0 = B(1) u_M (kappa1 is kept). For checking a fit
+/// against the generator's truth. Throws std::invalid_argument when the sizes of a or b are not model.n or K = 0.
+JointModel with_true_plant(const JointModel& model, const std::vector<double>& a, const std::vector<double>& b,
+                           const Border& ascending, const Border& descending);
 
 /// One-step prediction errors y(t) - y^(t|t-1) over [begin, end) (t >= n).
 std::vector<double> prediction_errors(const JointModel& model, const FlatRecording& data, std::size_t begin,

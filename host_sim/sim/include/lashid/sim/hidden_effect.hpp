@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -12,6 +13,7 @@
 
 #include "lashid/io/config.hpp"
 #include "lashid/io/recording.hpp"
+#include "lashid/plant/border.hpp"
 #include "lashid/plant/effect.hpp"
 #include "lashid/plant/linear_plant.hpp"
 
@@ -30,6 +32,9 @@ struct HiddenEffect {
   /// options asked.
   std::vector<double> border_v;
   std::vector<double> border_ascending, border_descending;
+  /// The plant's borders themselves (ascending, descending), as the plant runs them: at the levels and linear in
+  /// between, or curved on 400 segments. For checks of a fitted model against the truth.
+  std::shared_ptr<const std::pair<Border, Border>> borders;
 };
 
 struct HiddenEffectCase {

@@ -1,0 +1,65 @@
+#include "sweep_oracle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "lashid/stats/metrics.hpp"
+
+namespace lashid::app {
+
+using namespace lashid::sim;
+
+namespace {
+
+// Fit (%) of the model's pure simulation of val; -inf if it diverges.
+double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin) {
+  const std::vector<double> simulated = simulate_segment(model, data, begin, data.size());
+  if (!std::all_of(simulated.begin(), simulated.end(), [](double x) { return std::isfinite(x); })) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  return stats::fit_percent(std::span<const double>(data.y).subspan(begin), simulated);
+}
+
+}  // namespace
+
+std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRecording& data,
+                                        const ModelStructure& structure, const JointModel& fit) {
+  if (!fit.ok || !c.effect.borders || structure.drift || structure.instrumental || !(c.noise_variance > 0)) {
+    return std::nullopt;
+  }
+  const double unit = static_cast<double>(fit.rows) * c.noise_variance;
+  const JointModel truth = with_true_plant(fit, c.model.a, c.model.b, c.effect.borders->first,
+                                           c.effect.borders->second);
+  // The same structure fitted from the true plant's regimes (its only start).
+  const JointModel from_truth = fit_joint_model(c.config, data, structure, &truth, true);
+  const std::size_t val_begin = data.size() - c.recording.phase(Phase::kVal).size();
+  OracleCheck check;
+  check.truth = self_consistent_rss(truth, data) / unit;
+  check.fit_rss = fit.rss / unit;
+  check.fit_consistent = self_consistent_rss(fit, data) / unit;
+  check.from_true_regimes_rss = from_truth.ok ? from_truth.rss / unit : std::numeric_limits<double>::infinity();
+  check.from_true_regimes = from_truth.ok ? self_consistent_rss(from_truth, data) / unit
+                                          : std::numeric_limits<double>::infinity();
+  check.val_truth = val_fit(truth, data, val_begin);
+  check.val_fit = val_fit(fit, data, val_begin);
+  check.val_from_true_regimes = from_truth.ok ? val_fit(from_truth, data, val_begin)
+                                              : -std::numeric_limits<double>::infinity();
+  return check;
+}
+
+nlohmann::json to_json(const std::optional<OracleCheck>& check) {
+  if (!check) return nullptr;
+  return {{"truth", check->truth},
+          {"fit_rss", check->fit_rss},
+          {"fit_consistent", check->fit_consistent},
+          {"from_true_regimes_rss", check->from_true_regimes_rss},
+          {"from_true_regimes", check->from_true_regimes},
+          {"val_truth", check->val_truth},
+          {"val_fit", check->val_fit},
+          {"val_from_true_regimes", check->val_from_true_regimes}};
+}
+
+}  // namespace lashid::app
