@@ -130,6 +130,60 @@ TEST(JointModel, FinerBorderTablesFollowTheTrueBordersBetweenTheLevels) {
   }
 }
 
+// The true plant on a fitted model's own tables (with_true_plant, the --oracle of diagnose-sweep): with borders
+// linear between the levels the tables hold them exactly, so its one-step error, with the regimes its own borders
+// give, is the generator's equation error: E[sum e^2] = rows x noise variance (the sum's relative spread is
+// sqrt(2 / rows), about 1.2 %). A backlash and a switch, each behind an input lag (seeds from 5330 on).
+TEST(JointModel, TheTruePlantOnTheTablesPredictsToTheNoiseLevel) {
+  int found_backlash = 0, found_switch = 0;
+  for (std::uint64_t seed = 5330; seed < 5350 && (found_backlash == 0 || found_switch == 0); ++seed) {
+    const HiddenEffectCase c = generate_hidden_effect_case(Cause::kInputLag, seed);
+    int& found = c.effect.true_operator == OperatorKind::kBacklash ? found_backlash : found_switch;
+    if (found > 0) continue;
+    ++found;
+    ASSERT_TRUE(c.effect.borders);
+    ModelStructure s;
+    s.op = c.effect.true_operator;
+    s.input_lag = c.effect.lambda;
+    s.border_segments = 4;
+    const FlatRecording data = flatten(c.recording);
+    const JointModel fit = fit_joint_model(c.config, data, s);
+    ASSERT_TRUE(fit.ok) << fit.failure;
+    const JointModel truth = with_true_plant(fit, c.model.a, c.model.b, c.effect.borders->first,
+                                             c.effect.borders->second);
+    const double unit = static_cast<double>(truth.rows) * c.noise_variance;
+    EXPECT_NEAR(self_consistent_rss(truth, data) / unit, 1.0, 0.06) << "seed " << seed;
+    // The fit cannot do better than the noise either (it has more freedom, a few hundred parameters at most).
+    EXPECT_GT(fit.rss / unit, 0.9) << "seed " << seed;
+  }
+  EXPECT_EQ(found_backlash, 1);
+  EXPECT_EQ(found_switch, 1);
+}
+
+// A switch's regimes follow the direction of its input alone, whatever its borders: its own one-step error is then
+// the regression's, computed a second way (the simulated operator instead of the regression's residuals). Exactly
+// so where the regression is the rank-1 model itself (finer tables, n >= 2); with the paper's unrestricted
+// products (3.21) the rank-1 model simulated is a restriction of the regression, so its error can only be larger.
+TEST(JointModel, ASwitchsOwnOneStepErrorIsItsRegressionError) {
+  std::uint64_t seed = 5350;
+  HiddenEffectCase c = generate_hidden_effect_case(Cause::kNone, seed);
+  while (c.config.n < 2) c = generate_hidden_effect_case(Cause::kNone, ++seed);
+  const FlatRecording data = flatten(c.recording);
+  ModelStructure s;
+  s.op = OperatorKind::kSwitch;
+  const JointModel products = fit_joint_model(c.config, data, s);
+  ASSERT_TRUE(products.ok) << products.failure;
+  EXPECT_GE(self_consistent_rss(products, data), products.rss * (1 - 1e-12)) << "seed " << seed;
+  s.border_segments = 2;
+  const JointModel rank_one = fit_joint_model(c.config, data, s);
+  ASSERT_TRUE(rank_one.ok) << rank_one.failure;
+  EXPECT_NEAR(self_consistent_rss(rank_one, data), rank_one.rss, 1e-9 * rank_one.rss) << "seed " << seed;
+  std::vector<double> one_too_many = c.model.a;
+  one_too_many.push_back(0.1);
+  EXPECT_THROW(with_true_plant(rank_one, one_too_many, c.model.b, c.effect.borders->first, c.effect.borders->second),
+               std::invalid_argument);
+}
+
 TEST(Diagnose, RejectsRecordingsItCannotDiagnose) {
   const HiddenEffectCase c = generate_hidden_effect_case(Cause::kNone, 5200);
   Recording no_val;
