@@ -35,6 +35,9 @@ std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRec
                                            c.effect.borders->second);
   // The same structure fitted from the true plant's regimes (its only start).
   const JointModel from_truth = fit_joint_model(c.config, data, structure, &truth, true);
+  ModelStructure held = structure;
+  held.regime_consistency = true;
+  const JointModel consistent = fit_joint_model(c.config, data, held, &truth, true);
   const std::size_t val_begin = data.size() - c.recording.phase(Phase::kVal).size();
   OracleCheck check;
   check.truth = self_consistent_rss(truth, data) / unit;
@@ -43,6 +46,10 @@ std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRec
   check.from_true_regimes_rss = from_truth.ok ? from_truth.rss / unit : std::numeric_limits<double>::infinity();
   check.from_true_regimes = from_truth.ok ? self_consistent_rss(from_truth, data) / unit
                                           : std::numeric_limits<double>::infinity();
+  check.from_true_regimes_consistent = consistent.ok ? self_consistent_rss(consistent, data) / unit
+                                                     : std::numeric_limits<double>::infinity();
+  check.val_from_true_regimes_consistent = consistent.ok ? val_fit(consistent, data, val_begin)
+                                                         : -std::numeric_limits<double>::infinity();
   check.val_truth = val_fit(truth, data, val_begin);
   check.val_fit = val_fit(fit, data, val_begin);
   check.val_from_true_regimes = from_truth.ok ? val_fit(from_truth, data, val_begin)
@@ -59,7 +66,9 @@ nlohmann::json to_json(const std::optional<OracleCheck>& check) {
           {"from_true_regimes", check->from_true_regimes},
           {"val_truth", check->val_truth},
           {"val_fit", check->val_fit},
-          {"val_from_true_regimes", check->val_from_true_regimes}};
+          {"val_from_true_regimes", check->val_from_true_regimes},
+          {"from_true_regimes_consistent", check->from_true_regimes_consistent},
+          {"val_from_true_regimes_consistent", check->val_from_true_regimes_consistent}};
 }
 
 }  // namespace lashid::app

@@ -22,7 +22,9 @@ struct OracleCheck {
   /// start: its regression error, and its own one-step error.
   double from_true_regimes_rss = 0;
   double from_true_regimes = 0;
-  double val_truth = 0, val_fit = 0, val_from_true_regimes = 0;
+  /// The same, with ModelStructure::regime_consistency: its own one-step error and val fit.
+  double from_true_regimes_consistent = 0;
+  double val_truth = 0, val_fit = 0, val_from_true_regimes = 0, val_from_true_regimes_consistent = 0;
 };
 
 /// The check for `fit`, the true structure `structure` fitted to `data` (the flat recording of `c`). nullopt where

@@ -15,6 +15,7 @@
 
 #include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
+#include "joint_model_consistency.hpp"
 #include "joint_model_layout.hpp"
 #include "joint_model_regression.hpp"
 #include "joint_model_output_error.hpp"
@@ -138,7 +139,8 @@ std::optional<Eigen::VectorXd> warm_theta(const JointModel& warm, const Layout& 
 // when given, may start the rank-1 fit (warm_theta).
 JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, const FlatRecording& data,
                           const ModelStructure& structure, const Basis& phi,
-                          const std::vector<double>* instruments_y, const JointModel* warm = nullptr) {
+                          const std::vector<double>* instruments_y, const JointModel* warm = nullptr,
+                          const detail::ConsistencyRows* consistency = nullptr) {
   const int n = config.n;
   const int P = layout.parameters;
   const RegressionShape g = regression_shape(n, P, data, structure);
@@ -159,6 +161,7 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   const bool smoothed = !layout.stencils.empty() && structure.border_smoothness > 0;
   const ExcitedColumns columns = excited_columns(ne.energy, n, P, cols, smoothed);
   add_smoothness_prior(layout, n, P, structure.border_smoothness, ne);
+  if (consistency != nullptr) detail::add_consistency_rows(*consistency, n, P, ne);
   const auto& keep = columns.keep;
   model.parameters = static_cast<int>(keep.size());
   // With the smoothness prior every column is kept: the equations are taken as they are (copying ~360 columns
@@ -272,16 +275,49 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   // slowest diagnoses; stopping lost 1 hit of 260 tuning cases on curved borders, none of 180 on linear ones.
   // First guesses: the switch's regimes (exact for the nominal experiments, where F acts as a static map) and,
   // when given, the regimes of `initial` (e.g. the nominal fit, a better start once the input is filtered).
+  // With structure.regime_consistency, each fit for given regimes phi (from `source`'s borders) is refitted with
+  // penalty rows until the model's own backlash takes phi's regimes, or kConsistencyRounds; `consistent` says
+  // whether it does in the end.
+  const bool consistency = structure.regime_consistency && structure.op == OperatorKind::kBacklash;
+  const auto fit_regimes = [&](const Basis& phi, const JointModel* source, bool& consistent) {
+    JointModel m = fit_with_basis(config, layout, data, ls_structure, phi, nullptr, source);
+    consistent = false;
+    if (!consistency) return m;
+    std::vector<char> sticky(w.size(), 0);
+    for (int round = 0; round <= detail::kConsistencyRounds && m.ok; ++round) {
+      detail::ConsistencyRows rows;
+      std::vector<char> used(w.size(), 0);
+      const int broken = detail::regime_violations(layout, w, data, phi, source, m, sticky, used, rows);
+      if (broken == 0) {
+        consistent = true;
+        break;
+      }
+      if (round == detail::kConsistencyRounds) break;
+      for (std::size_t t = 0; t < used.size(); ++t) sticky[t] = sticky[t] || used[t];
+      JointModel next = fit_with_basis(config, layout, data, ls_structure, phi, nullptr, &m, &rows);
+      if (!next.ok) break;
+      m = std::move(next);
+    }
+    return m;
+  };
   const auto fit_from = [&](const JointModel* start) {
     Basis phi = operator_basis(layout, w, structure.op, start);
-    JointModel model = fit_with_basis(config, layout, data, ls_structure, phi, nullptr, start);
+    bool consistent = false;
+    JointModel model = fit_regimes(phi, start, consistent);
+    // A fit whose own backlash takes the regimes it was fitted with ends the iteration.
+    if (consistent) return std::pair{std::move(model), std::move(phi)};
     JointModel current = model;
     Basis current_phi = phi;
     for (int pass = 0; pass < 8 && current.ok && structure.op == OperatorKind::kBacklash; ++pass) {
       Basis next = operator_basis(layout, w, structure.op, &current);
       if (next == current_phi) break;
-      current = fit_with_basis(config, layout, data, ls_structure, next, nullptr, &current);
+      current = fit_regimes(next, &current, consistent);
         current_phi = std::move(next);
+      if (consistent) {
+        model = std::move(current);
+        phi = std::move(current_phi);
+        break;
+      }
       if (!current.ok || !(current.rss < model.rss)) break;
       model = current;
       phi = current_phi;
@@ -295,7 +331,10 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     std::tie(model, phi) = fit_from(nullptr);
   } else if (from_initial && !only_from_initial) {
     auto [other, other_phi] = fit_from(initial);
-    if (other.ok && (!model.ok || other.rss < model.rss)) {
+    // With regime consistency the starts are compared by their own one-step error: a fit that breaks its regimes
+    // can have the lower regression error.
+    const auto error = [&](const JointModel& m) { return consistency ? self_consistent_rss(m, data) : m.rss; };
+    if (other.ok && (!model.ok || error(other) < error(model))) {
       model = std::move(other);
       phi = std::move(other_phi);
     }

@@ -54,6 +54,8 @@ HatRow hat(const BorderLayout& border, double w) {
 
 }  // namespace
 
+HatRow hat_row(const BorderLayout& border, double w) { return hat(border, w); }
+
 Layout make_layout(const ExperimentConfig& c, int segments) {
   if (c.V_d.size() != static_cast<std::size_t>(c.m) || c.V_a.size() != static_cast<std::size_t>(c.m)) {
     throw std::invalid_argument("the joint model needs both schemes: V_d and V_a with m points each");

@@ -51,6 +51,9 @@ Layout make_layout(const ExperimentConfig& c, int segments);
 /// abscissas); the references (parameter -1) have no entry.
 Eigen::VectorXd border_parameters(const JointModel& model, const Layout& layout);
 
+/// The hat weights of w on one border (w clamped to its domain).
+HatRow hat_row(const BorderLayout& border, double w);
+
 /// phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
 /// The switch's regime depends on the direction of w only; the backlash's also on the borders, taken from
 /// `current` (the previous fit) when given, otherwise the switch's regimes are used as the first guess.

@@ -55,6 +55,11 @@ struct ModelStructure {
   int border_segments = 1;
   /// Weight, in samples, of the prior that a point between the abscissas lies on the line through its neighbours.
   double border_smoothness = 20.0;
+  /// Backlash only: every least-squares fit is held to the regimes it is fitted with (penalty rows on the borders
+  /// where the model's own backlash would move or hold otherwise, joint_model_consistency.hpp), and a fit that
+  /// takes its own regimes ends the regime iteration. Off in the diagnosis: on the tuning seeds it made the
+  /// fits from the true regimes consistent but the diagnosis worse and 4 times slower (docs/diagnose.md).
+  bool regime_consistency = false;
 };
 
 /// A fitted model, in the scaling of (3.11c) (u~ = F - u_M, C~_d(v_min) = -1).
