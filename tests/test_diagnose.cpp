@@ -184,6 +184,37 @@ TEST(JointModel, ASwitchsOwnOneStepErrorIsItsRegressionError) {
                std::invalid_argument);
 }
 
+// ModelStructure::regime_consistency, from the true plant's regimes (curved borders, a backlash behind an input
+// lag, seed 5402, found by scanning 5400-5439 with diagnose-sweep --oracle for a fit that breaks them): least
+// squares alone ends with borders whose own backlash leaves those regimes (own one-step error 20 times the noise);
+// held to them, the fit takes its own regimes, so its own error is its regression error (two implementations),
+// at the noise level (closed form: rows x variance).
+TEST(JointModel, RegimeConsistencyKeepsABacklashFitOnItsOwnRegimes) {
+  HiddenEffectOptions options;
+  options.borders = BorderShape::kCurved;
+  const HiddenEffectCase c = generate_hidden_effect_case(std::vector<Cause>{Cause::kInputLag}, 5402, options);
+  ASSERT_EQ(c.effect.true_operator, OperatorKind::kBacklash);
+  const DiagnosisOptions defaults;
+  ModelStructure s;
+  s.op = OperatorKind::kBacklash;
+  s.input_lag = c.effect.lambda;
+  s.border_segments = defaults.lag_border_segments;
+  s.border_smoothness = defaults.lag_border_smoothness;
+  const FlatRecording data = flatten(c.recording);
+  const JointModel tables = fit_joint_model(c.config, data, s);
+  ASSERT_TRUE(tables.ok) << tables.failure;
+  const JointModel truth = with_true_plant(tables, c.model.a, c.model.b, c.effect.borders->first,
+                                           c.effect.borders->second);
+  const double unit = static_cast<double>(truth.rows) * c.noise_variance;
+  const JointModel plain = fit_joint_model(c.config, data, s, &truth, true);
+  s.regime_consistency = true;
+  const JointModel held = fit_joint_model(c.config, data, s, &truth, true);
+  ASSERT_TRUE(plain.ok && held.ok);
+  EXPECT_GT(self_consistent_rss(plain, data) / unit, 3.0);
+  EXPECT_LT(self_consistent_rss(held, data) / unit, 1.3);
+  EXPECT_NEAR(self_consistent_rss(held, data), held.rss, 1e-6 * held.rss);
+}
+
 TEST(Diagnose, RejectsRecordingsItCannotDiagnose) {
   const HiddenEffectCase c = generate_hidden_effect_case(Cause::kNone, 5200);
   Recording no_val;
