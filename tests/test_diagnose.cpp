@@ -130,6 +130,15 @@ TEST(JointModel, FinerBorderTablesFollowTheTrueBordersBetweenTheLevels) {
   }
 }
 
+// The generator's plant on `fit`'s tables (with_true_plant), and rows x the equation-error variance: the
+// expected one-step squared error of the true plant.
+JointModel true_plant_on(const HiddenEffectCase& c, const JointModel& fit) {
+  return with_true_plant(fit, c.model.a, c.model.b, c.effect.borders->first, c.effect.borders->second);
+}
+double noise_level(const HiddenEffectCase& c, const JointModel& model) {
+  return static_cast<double>(model.rows) * c.noise_variance;
+}
+
 // The true plant on a fitted model's own tables (with_true_plant, the --oracle of diagnose-sweep): with borders
 // linear between the levels the tables hold them exactly, so its one-step error, with the regimes its own borders
 // give, is the generator's equation error: E[sum e^2] = rows x noise variance (the sum's relative spread is
@@ -149,9 +158,8 @@ TEST(JointModel, TheTruePlantOnTheTablesPredictsToTheNoiseLevel) {
     const FlatRecording data = flatten(c.recording);
     const JointModel fit = fit_joint_model(c.config, data, s);
     ASSERT_TRUE(fit.ok) << fit.failure;
-    const JointModel truth = with_true_plant(fit, c.model.a, c.model.b, c.effect.borders->first,
-                                             c.effect.borders->second);
-    const double unit = static_cast<double>(truth.rows) * c.noise_variance;
+    const JointModel truth = true_plant_on(c, fit);
+    const double unit = noise_level(c, truth);
     EXPECT_NEAR(self_consistent_rss(truth, data) / unit, 1.0, 0.06) << "seed " << seed;
     // The fit cannot do better than the noise either (it has more freedom, a few hundred parameters at most).
     EXPECT_GT(fit.rss / unit, 0.9) << "seed " << seed;
@@ -203,9 +211,8 @@ TEST(JointModel, RegimeConsistencyKeepsABacklashFitOnItsOwnRegimes) {
   const FlatRecording data = flatten(c.recording);
   const JointModel tables = fit_joint_model(c.config, data, s);
   ASSERT_TRUE(tables.ok) << tables.failure;
-  const JointModel truth = with_true_plant(tables, c.model.a, c.model.b, c.effect.borders->first,
-                                           c.effect.borders->second);
-  const double unit = static_cast<double>(truth.rows) * c.noise_variance;
+  const JointModel truth = true_plant_on(c, tables);
+  const double unit = noise_level(c, truth);
   const JointModel plain = fit_joint_model(c.config, data, s, &truth, true);
   s.regime_consistency = true;
   const JointModel held = fit_joint_model(c.config, data, s, &truth, true);
