@@ -146,8 +146,10 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
     const DamperRecord& rec = test[i];
     const auto u_nom = simulate_operator(nominal_op, rec.v, rec.u.front());
     const auto u_ext = simulate_operator(extended_op, rec.v, rec.u.front());
-    const auto u_fin = tensions.fit ? simulate_operator(*tensions.fit->make(tensions.test[i]), rec.v, rec.u.front())
-                                    : u_ext;
+    // The final operator: per band tension at the file's own tension when on, else the tension-blind one.
+    const auto at_tension = tensions.fit ? tensions.fit->make(tensions.test[i]) : nullptr;
+    const FrictionGapOperator& final_op = at_tension ? *at_tension : extended_op;
+    const auto u_fin = at_tension ? simulate_operator(final_op, rec.v, rec.u.front()) : u_ext;
     const auto u_dyn = dynamics.apply(u_fin, rec.u.front());
     const double f_nom = fit_to_record(rec, u_nom), f_ext = fit_to_record(rec, u_ext);
     const double f_fin = fit_to_record(rec, u_fin), f_dyn = fit_to_record(rec, u_dyn);
@@ -191,8 +193,7 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
                ceiling);
     // Two things a test record does not tell, profiled for the final model (test_profiles.hpp): the slider's
     // initial position and the band tension (one training span beyond each end). Bounds, not scores.
-    const auto at_tension = tensions.fit ? tensions.fit->make(tensions.test[i]) : nullptr;
-    const FitProfile start = initial_offset_profile(at_tension ? *at_tension : extended_op, dynamics, rec);
+    const FitProfile start = initial_offset_profile(final_op, dynamics, rec);
     print_profile(start, "slider's initial position", f_dyn);
     out.profiles[rec.source]["initial_offset"] = profile_json(start);
     if (tensions.fit) {
