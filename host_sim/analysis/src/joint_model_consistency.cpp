@@ -41,13 +41,7 @@ struct ModelBorders {
       : op(make_model_operator(model, w0)),
         backlash(dynamic_cast<const BacklashOperator*>(op.get())),
         c(border_parameters(model, layout)) {}
-  double value(const HatRow& h) const {
-    double v = 0;
-    for (std::size_t j = 0; j < 2; ++j) {
-      if (h.param[j] >= 0) v += h.weight[j] * c(h.param[j]);
-    }
-    return v;
-  }
+  double value(const HatRow& h) const { return hat_value(h, c); }
   const Border& border(int dir) const { return dir > 0 ? backlash->ascending() : backlash->descending(); }
 };
 

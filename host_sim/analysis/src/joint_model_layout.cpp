@@ -39,8 +39,9 @@ void subdivide(BorderLayout& border, int segments, int& parameters) {
   border = std::move(fine);
 }
 
-// The hat-function weights of w on `border` (w outside the nodes is clamped, as Border does).
-HatRow hat(const BorderLayout& border, double w) {
+}  // namespace
+
+HatRow hat_row(const BorderLayout& border, double w) {
   const auto& x = border.x;
   w = std::clamp(w, x.front(), x.back());
   auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), w) - x.begin());
@@ -51,10 +52,6 @@ HatRow hat(const BorderLayout& border, double w) {
   row.weight = {border.param[k] >= 0 ? 1.0 - s : 0.0, border.param[k + 1] >= 0 ? s : 0.0};
   return row;
 }
-
-}  // namespace
-
-HatRow hat_row(const BorderLayout& border, double w) { return hat(border, w); }
 
 Layout make_layout(const ExperimentConfig& c, int segments) {
   if (c.V_d.size() != static_cast<std::size_t>(c.m) || c.V_a.size() != static_cast<std::size_t>(c.m)) {
@@ -103,7 +100,7 @@ Basis operator_basis(const Layout& layout, const std::vector<double>& w, Operato
   std::unique_ptr<HysteresisOperator> model_op;
   if (op == OperatorKind::kBacklash && current != nullptr) model_op = make_model_operator(*current, w[0]);
   double u_prev = model_op ? model_op->step(w[0]) : 0.0;
-  phi[0] = hat(layout.descending, w[0]);
+  phi[0] = hat_row(layout.descending, w[0]);
   for (std::size_t t = 1; t < T; ++t) {
     bool hold = w[t] == w[t - 1];
     if (model_op) {
@@ -111,7 +108,7 @@ Basis operator_basis(const Layout& layout, const std::vector<double>& w, Operato
       hold = hold || u == u_prev;
       u_prev = u;
     }
-    phi[t] = hold ? phi[t - 1] : hat(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t]);
+    phi[t] = hold ? phi[t - 1] : hat_row(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t]);
   }
   return phi;
 }

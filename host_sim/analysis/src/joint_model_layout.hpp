@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,6 +29,17 @@ struct HatRow {
 };
 using Basis = std::vector<HatRow>;
 
+/// The value sum_j weight_j c(param_j) of a hat row for border values given by `c` (a callable of the parameter
+/// index, or an Eigen vector); the reference (-1) contributes nothing.
+template <class Values>
+double hat_value(const HatRow& h, const Values& c) {
+  double v = 0;
+  for (std::size_t j = 0; j < 2; ++j) {
+    if (h.param[j] >= 0) v += h.weight[j] * c(h.param[j]);
+  }
+  return v;
+}
+
 // A point between the levels, pulled towards the line through its two neighbours on the same border: the
 // smoothness prior that keeps points the data hardly reach from taking wild values. Parameter -1 is the reference
 // u~ = 0 (a constant, so it drops out of the penalty).
@@ -51,7 +63,7 @@ Layout make_layout(const ExperimentConfig& c, int segments);
 /// abscissas); the references (parameter -1) have no entry.
 Eigen::VectorXd border_parameters(const JointModel& model, const Layout& layout);
 
-/// The hat weights of w on one border (w clamped to its domain).
+/// The hat-function weights of w on one border (w outside the nodes is clamped, as Border does).
 HatRow hat_row(const BorderLayout& border, double w);
 
 /// phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.

@@ -86,13 +86,7 @@ double simulate(const Eigen::VectorXd& x, const Parameters& p, const Basis& phi,
                 Eigen::MatrixXd* jacobian) {
   const auto un = static_cast<std::size_t>(p.n);
   const auto c = [&](int k) { return k == 0 ? -1.0 : x(p.c(k)); };
-  const auto u = [&](std::size_t t) {
-    double s = 0;
-    for (std::size_t j = 0; j < 2; ++j) {
-      if (phi[t].param[j] >= 0) s += phi[t].weight[j] * c(phi[t].param[j]);
-    }
-    return s;
-  };
+  const auto u = [&](std::size_t t) { return hat_value(phi[t], c); };
   std::size_t rows = 0;
   for (const auto& r : runs) rows += r.second - r.first;
   if (error != nullptr) error->resize(static_cast<Eigen::Index>(rows));
