@@ -96,10 +96,7 @@ TrueStructureFit true_structure_fit(const HiddenEffectCase& c, const DiagnosisOp
   TrueStructureFit out;
   if (!model.ok) return out;
   if (oracle) out.oracle = oracle_check(c, data, s, model);
-  const std::size_t begin = data.size() - c.recording.phase(Phase::kVal).size();
-  const std::vector<double> simulated = simulate_segment(model, data, begin, data.size());
-  if (!std::all_of(simulated.begin(), simulated.end(), [](double x) { return std::isfinite(x); })) return out;
-  out.fit = stats::fit_percent(std::span<const double>(data.y).subspan(begin), simulated);
+  out.fit = simulation_fit(model, data, data.size() - c.recording.phase(Phase::kVal).size(), data.size());
   return out;
 }
 

@@ -1,29 +1,10 @@
 #include "sweep_oracle.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <limits>
-#include <span>
-#include <vector>
-
-#include "lashid/stats/metrics.hpp"
 
 namespace lashid::app {
 
 using namespace lashid::sim;
-
-namespace {
-
-// Fit (%) of the model's pure simulation of val; -inf if it diverges.
-double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin) {
-  const std::vector<double> simulated = simulate_segment(model, data, begin, data.size());
-  if (!std::all_of(simulated.begin(), simulated.end(), [](double x) { return std::isfinite(x); })) {
-    return -std::numeric_limits<double>::infinity();
-  }
-  return stats::fit_percent(std::span<const double>(data.y).subspan(begin), simulated);
-}
-
-}  // namespace
 
 std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRecording& data,
                                         const ModelStructure& structure, const JointModel& fit) {
@@ -39,6 +20,7 @@ std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRec
   held.regime_consistency = true;
   const JointModel consistent = fit_joint_model(c.config, data, held, &truth, true);
   const std::size_t val_begin = data.size() - c.recording.phase(Phase::kVal).size();
+  const auto val_fit = [&](const JointModel& m) { return simulation_fit(m, data, val_begin, data.size()); };
   OracleCheck check;
   check.truth = self_consistent_rss(truth, data) / unit;
   check.fit_rss = fit.rss / unit;
@@ -48,12 +30,11 @@ std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRec
                                           : std::numeric_limits<double>::infinity();
   check.from_true_regimes_consistent = consistent.ok ? self_consistent_rss(consistent, data) / unit
                                                      : std::numeric_limits<double>::infinity();
-  check.val_from_true_regimes_consistent = consistent.ok ? val_fit(consistent, data, val_begin)
+  check.val_truth = val_fit(truth);
+  check.val_fit = val_fit(fit);
+  check.val_from_true_regimes = from_truth.ok ? val_fit(from_truth) : -std::numeric_limits<double>::infinity();
+  check.val_from_true_regimes_consistent = consistent.ok ? val_fit(consistent)
                                                          : -std::numeric_limits<double>::infinity();
-  check.val_truth = val_fit(truth, data, val_begin);
-  check.val_fit = val_fit(fit, data, val_begin);
-  check.val_from_true_regimes = from_truth.ok ? val_fit(from_truth, data, val_begin)
-                                              : -std::numeric_limits<double>::infinity();
   return check;
 }
 

@@ -366,12 +366,9 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     JointModel oe = model;
     if (detail::refine_output_error(oe, layout, data)) {
       // The one-step residuals of the refitted model on the same rows.
-      const std::vector<double> e = prediction_errors(oe, data, 0, data.size());
+      oe.residuals = detail::own_residuals(oe, data);
       oe.rss = 0;
-      for (std::size_t k = 0; k < oe.residual_t.size(); ++k) {
-        oe.residuals[k] = e[oe.residual_t[k] - static_cast<std::size_t>(oe.n)];
-        oe.rss += oe.residuals[k] * oe.residuals[k];
-      }
+      for (double e : oe.residuals) oe.rss += e * e;
       oe.residual_variance = oe.rss / static_cast<double>(oe.rows - static_cast<std::size_t>(oe.parameters));
       oe.structure.output_error = true;
       model = std::move(oe);

@@ -1,7 +1,9 @@
 // Simulation and one-step prediction of a JointModel, and the flat view of a recording it works on.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -10,6 +12,7 @@
 #include "lashid/analysis/joint_model.hpp"
 #include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
+#include "lashid/stats/metrics.hpp"
 #include "model_operator.hpp"
 
 namespace lashid::sim {
@@ -100,14 +103,28 @@ std::vector<double> prediction_errors(const JointModel& model, const FlatRecordi
   return e;
 }
 
+double simulation_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
+                      std::vector<double>* simulated) {
+  std::vector<double> sim = simulate_segment(model, data, begin, end);
+  const std::span<const double> measured(data.y.data() + begin, end - begin);
+  const bool finite = std::all_of(sim.begin(), sim.end(), [](double x) { return std::isfinite(x); });
+  const double fit = finite ? stats::fit_percent(measured, sim) : -std::numeric_limits<double>::infinity();
+  if (simulated != nullptr) *simulated = std::move(sim);
+  return fit;
+}
+
+std::vector<double> detail::own_residuals(const JointModel& model, const FlatRecording& data) {
+  const std::vector<double> e = prediction_errors(model, data, 0, data.size());
+  std::vector<double> out;
+  out.reserve(model.residual_t.size());
+  for (std::size_t t : model.residual_t) out.push_back(e.at(t - static_cast<std::size_t>(model.n)));
+  return out;
+}
+
 double self_consistent_rss(const JointModel& model, const FlatRecording& data) {
   if (!model.ok) throw std::invalid_argument("self_consistent_rss: the model is not fitted");
-  const std::vector<double> e = prediction_errors(model, data, 0, data.size());
   double sum = 0;
-  for (std::size_t t : model.residual_t) {
-    const std::size_t k = t - static_cast<std::size_t>(model.n);
-    sum += e.at(k) * e.at(k);
-  }
+  for (double e : detail::own_residuals(model, data)) sum += e * e;
   return sum;
 }
 

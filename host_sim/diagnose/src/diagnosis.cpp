@@ -18,7 +18,6 @@ using detail::extend_model;
 using detail::residuals;
 using detail::score_candidate;
 using detail::select_causes;
-using detail::val_fit;
 
 // The recording must hold all five phases, match the config, and give the residual tests enough val samples.
 void check_diagnosable(const ExperimentConfig& config, const Recording& recording, std::string_view data_name) {
@@ -87,7 +86,7 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
                                                           d.nominal.failure));
   d.identification = residuals(d.nominal, data, false);
   d.validation = residuals(d.nominal, data, true);
-  d.fit_nominal = val_fit(d.nominal, data, d.val_begin, d.val_end, &d.val_nominal);
+  d.fit_nominal = simulation_fit(d.nominal, data, d.val_begin, d.val_end, &d.val_nominal);
   const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
 
   // Every cause against the nominal model (the evidence the report shows), then the forward selection.

@@ -6,7 +6,6 @@
 #include <limits>
 #include <utility>
 
-#include "lashid/stats/metrics.hpp"
 #include "lashid/stats/statistics.hpp"
 
 namespace lashid::sim::detail {
@@ -132,17 +131,6 @@ double aperiodic_correlation(const JointModel& model, const FlatRecording& data,
   return stats::ljung_box(aperiodic, kResidualLags).statistic / static_cast<double>(aperiodic.size());
 }
 
-double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
-               std::vector<double>* simulated) {
-  std::vector<double> sim = simulate_segment(model, data, begin, end);
-  const std::span<const double> measured(data.y.data() + begin, end - begin);
-  // An unstable model's simulation diverges: its fit is -infinity (null in JSON), not an error.
-  const bool finite = std::all_of(sim.begin(), sim.end(), [](double x) { return std::isfinite(x); });
-  const double fit = finite ? stats::fit_percent(measured, sim) : -std::numeric_limits<double>::infinity();
-  if (simulated != nullptr) *simulated = std::move(sim);
-  return fit;
-}
-
 double sse(std::span<const double> a, std::span<const double> b) {
   double s = 0;
   for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
@@ -193,7 +181,7 @@ void score_candidate(CandidateCause& c, const JointModel& before, std::span<cons
                      const DiagnosisOptions& options) {
   if (!c.model.ok) return;
   std::vector<double> simulated;
-  c.fit_val = val_fit(c.model, data, val_begin, val_end, &simulated);
+  c.fit_val = simulation_fit(c.model, data, val_begin, val_end, &simulated);
   c.identification = residuals(c.model, data, false);
   c.likelihood_ratio = likelihood_ratio(before, c.model);
   if (c.cause == Cause::kOperatorType) {

@@ -28,10 +28,6 @@ ResidualAnalysis residuals(const JointModel& model, const FlatRecording& data, b
 /// (ColoredNoiseCheck::aperiodic_correlation); `period` is the pulse period T of the design.
 double aperiodic_correlation(const JointModel& model, const FlatRecording& data, int period);
 
-/// Simulation fit on [begin, end); -infinity for a diverging simulation. `simulated` receives the simulation.
-double val_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
-               std::vector<double>* simulated = nullptr);
-
 double sse(std::span<const double> a, std::span<const double> b);
 
 /// `current` extended by an input lag: lambda over its range, with borders linear between the levels or finer

@@ -83,7 +83,7 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
 // `model` becomes the current model, with its val simulation and identification residuals.
 void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, const FlatRecording& data) {
   current.model = model;
-  current.fit = val_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.fit = simulation_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
   current.identification = residuals(current.model, data, false);
 }
 
@@ -150,7 +150,7 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   if (!refit.model.ok) return;
   // Judged as lambda is chosen: by val (the fine border model's lambda is chosen there).
   std::vector<double> simulated;
-  const double fit = val_fit(refit.model, data, d.val_begin, d.val_end, &simulated);
+  const double fit = simulation_fit(refit.model, data, d.val_begin, d.val_end, &simulated);
   if (!(fit > current.fit)) return;
   current.model = refit.model;
   current.fit = fit;
@@ -200,7 +200,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   check_options.coloured_output_error = options.coloured_output_error && options.output_error_in_checks;
   const auto instrumental_val_fit = [&](const JointModel& model) {
     const CandidateCause iv = extend_model(config, data, model, Cause::kColoredNoise, check_options);
-    return iv.model.ok ? val_fit(iv.model, data, d.val_begin, d.val_end) : -std::numeric_limits<double>::infinity();
+    return iv.model.ok ? simulation_fit(iv.model, data, d.val_begin, d.val_end) : -std::numeric_limits<double>::infinity();
   };
   const auto update_instrumental = [&]() { current.fit_instrumental = instrumental_val_fit(current.model); };
   if (options.instrumental_check) update_instrumental();
@@ -319,7 +319,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
     // simulates val at least as well (an IV fit of a large structure can be unstable).
-    if (iv.model.ok && val_fit(iv.model, data, d.val_begin, d.val_end) < current.fit) {
+    if (iv.model.ok && simulation_fit(iv.model, data, d.val_begin, d.val_end) < current.fit) {
       iv.model = current.model;
       iv.parameters.instrumental_variables = false;
       iv.parameters.output_error = false;

@@ -113,7 +113,7 @@ void repair_path(Fit fit, LagPath& path, const FlatRecording& data, std::pair<st
     JointModel again = fit(path.lambda[i], &path.model[inner], data);
     if (!again.ok || !(again.rss < path.model[i].rss)) return;
     path.model[i] = std::move(again);
-    path.fit_val[i] = val_fit(path.model[i], data, val.first, val.second);
+    path.fit_val[i] = simulation_fit(path.model[i], data, val.first, val.second);
   };
   // The two directions are independent: the upper one on a second thread.
   auto upper = std::async(std::launch::async, [&] {
@@ -141,7 +141,7 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
     }
     if (!m.ok) continue;
     path.lambda.push_back(lambda);
-    path.fit_val.push_back(val_fit(m, data, val.first, val.second));
+    path.fit_val.push_back(simulation_fit(m, data, val.first, val.second));
     path.fit_cross.push_back(-std::numeric_limits<double>::infinity());
     path.model.push_back(std::move(m));
     previous = &path.model.back();
@@ -259,7 +259,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const double min_rss = fine_rss.rss;
   std::size_t at = cross ? best_cross(path) : best_val(path, min_rss, options.lag_val_window);
   if (at == path.model.size()) at = best_val(path, min_rss, options.lag_val_window);
-  const double coarse_val = val_fit(best_coarse, data, val.first, val.second);
+  const double coarse_val = simulation_fit(best_coarse, data, val.first, val.second);
   if (!(gain > cost) && !(path.fit_val[at] > coarse_val + options.lag_fine_val_gain)) return refined_coarse();
   std::vector<double> local;
   for (int k = -2; k <= 2; ++k) {

@@ -105,6 +105,12 @@ std::vector<double> operator_output(const JointModel& model, const FlatRecording
 std::vector<double> simulate_segment(const JointModel& model, const FlatRecording& data, std::size_t begin,
                                      std::size_t end);
 
+/// Fit (%) of the model's pure simulation over [begin, end) (simulate_segment) to the measured y there; -infinity
+/// when the simulation diverges (an unstable model is the worst model, not an error). `simulated`, when given,
+/// receives the simulation.
+double simulation_fit(const JointModel& model, const FlatRecording& data, std::size_t begin, std::size_t end,
+                      std::vector<double>* simulated = nullptr);
+
 /// The model's own one-step squared error over its residual rows (residual_t): its operator run on its own borders,
 /// so a backlash takes the regimes its borders give. `rss` is instead the regression's error with the regimes the
 /// model was fitted with; the two differ where a fit's borders would make its backlash move or hold elsewhere.
