@@ -222,6 +222,43 @@ TEST(JointModel, RegimeConsistencyKeepsABacklashFitOnItsOwnRegimes) {
   EXPECT_NEAR(self_consistent_rss(held, data), held.rss, 1e-6 * held.rss);
 }
 
+// ModelStructure::regime_search, at the true input lag behind a backlash (curved borders, seed 5456, found by
+// scanning 5440-5479 with diagnose-sweep --oracle for a fit whose own error is far above the noise): the regime
+// iteration alone ends with borders whose own backlash takes other regimes (own one-step error thousands of times
+// the noise); the search over the pulse period's regime pattern, judged by that error, ends at the noise level
+// (closed form: rows x variance), and the model simulates val better. A switch has no regimes to search: the
+// option changes nothing.
+TEST(JointModel, RegimeSearchBringsABacklashFitToItsOwnRegimes) {
+  HiddenEffectOptions options;
+  options.borders = BorderShape::kCurved;
+  const HiddenEffectCase c = generate_hidden_effect_case(std::vector<Cause>{Cause::kInputLag}, 5456, options);
+  ASSERT_EQ(c.effect.true_operator, OperatorKind::kBacklash);
+  const DiagnosisOptions defaults;
+  ModelStructure s;
+  s.op = OperatorKind::kBacklash;
+  s.input_lag = c.effect.lambda;
+  s.border_segments = defaults.lag_border_segments;
+  s.border_smoothness = defaults.lag_border_smoothness;
+  const FlatRecording data = flatten(c.recording);
+  const JointModel plain = fit_joint_model(c.config, data, s);
+  s.regime_search = true;
+  const JointModel searched = fit_joint_model(c.config, data, s);
+  ASSERT_TRUE(plain.ok && searched.ok);
+  const double unit = noise_level(c, searched);
+  EXPECT_GT(self_consistent_rss(plain, data) / unit, 100.0);
+  EXPECT_LT(self_consistent_rss(searched, data) / unit, 1.3);
+  const std::size_t val_begin = data.size() - c.recording.phase(Phase::kVal).size();
+  EXPECT_GT(simulation_fit(searched, data, val_begin, data.size()),
+            simulation_fit(plain, data, val_begin, data.size()) + 50.0);
+  s.op = OperatorKind::kSwitch;
+  const JointModel with_search = fit_joint_model(c.config, data, s);
+  s.regime_search = false;
+  const JointModel without = fit_joint_model(c.config, data, s);
+  ASSERT_TRUE(with_search.ok && without.ok);
+  EXPECT_EQ(with_search.rss, without.rss);
+  EXPECT_EQ(with_search.descending_u, without.descending_u);
+}
+
 TEST(Diagnose, RejectsRecordingsItCannotDiagnose) {
   const HiddenEffectCase c = generate_hidden_effect_case(Cause::kNone, 5200);
   Recording no_val;

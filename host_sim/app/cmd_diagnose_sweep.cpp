@@ -218,10 +218,10 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
           fmt::print("     oracle (one-step error / rows x noise variance; val fit): true plant on the fit's tables "
                      "{:.2f} ({:.1f} %); true-structure fit {:.2f} as fitted, {:.2f} with its own regimes ({:.1f} "
                      "%); fitted from the true regimes {:.2f} as fitted, {:.2f} with its own ({:.1f} %), held to them "
-                     "{:.2f} ({:.1f} %)\n",
+                     "{:.2f} ({:.1f} %); with a regime search {:.2f} ({:.1f} %)\n",
                      o.truth, o.val_truth, o.fit_rss, o.fit_consistent, o.val_fit, o.from_true_regimes_rss,
                      o.from_true_regimes, o.val_from_true_regimes, o.from_true_regimes_consistent,
-                     o.val_from_true_regimes_consistent);
+                     o.val_from_true_regimes_consistent, o.regime_search, o.val_regime_search);
         }
         std::fflush(stdout);
       }

@@ -19,6 +19,9 @@ std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRec
   ModelStructure held = structure;
   held.regime_consistency = true;
   const JointModel consistent = fit_joint_model(c.config, data, held, &truth, true);
+  ModelStructure search = structure;
+  search.regime_search = true;
+  const JointModel searched = fit_joint_model(c.config, data, search);
   const std::size_t val_begin = data.size() - c.recording.phase(Phase::kVal).size();
   const auto val_fit = [&](const JointModel& m) { return simulation_fit(m, data, val_begin, data.size()); };
   OracleCheck check;
@@ -30,6 +33,9 @@ std::optional<OracleCheck> oracle_check(const HiddenEffectCase& c, const FlatRec
                                           : std::numeric_limits<double>::infinity();
   check.from_true_regimes_consistent = consistent.ok ? self_consistent_rss(consistent, data) / unit
                                                      : std::numeric_limits<double>::infinity();
+  check.regime_search = searched.ok ? self_consistent_rss(searched, data) / unit
+                                    : std::numeric_limits<double>::infinity();
+  check.val_regime_search = searched.ok ? val_fit(searched) : -std::numeric_limits<double>::infinity();
   check.val_truth = val_fit(truth);
   check.val_fit = val_fit(fit);
   check.val_from_true_regimes = from_truth.ok ? val_fit(from_truth) : -std::numeric_limits<double>::infinity();
@@ -49,7 +55,9 @@ nlohmann::json to_json(const std::optional<OracleCheck>& check) {
           {"val_fit", check->val_fit},
           {"val_from_true_regimes", check->val_from_true_regimes},
           {"from_true_regimes_consistent", check->from_true_regimes_consistent},
-          {"val_from_true_regimes_consistent", check->val_from_true_regimes_consistent}};
+          {"val_from_true_regimes_consistent", check->val_from_true_regimes_consistent},
+          {"regime_search", check->regime_search},
+          {"val_regime_search", check->val_regime_search}};
 }
 
 }  // namespace lashid::app

@@ -24,7 +24,11 @@ struct OracleCheck {
   double from_true_regimes = 0;
   /// The same, with ModelStructure::regime_consistency: its own one-step error and val fit.
   double from_true_regimes_consistent = 0;
+  /// The same structure fitted with ModelStructure::regime_search (from the usual starts, no truth used): its own
+  /// one-step error and val fit.
+  double regime_search = 0;
   double val_truth = 0, val_fit = 0, val_from_true_regimes = 0, val_from_true_regimes_consistent = 0;
+  double val_regime_search = 0;
 };
 
 /// The check for `fit`, the true structure `structure` fitted to `data` (the flat recording of `c`). nullopt where

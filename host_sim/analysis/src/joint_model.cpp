@@ -19,6 +19,7 @@
 #include "joint_model_layout.hpp"
 #include "joint_model_regression.hpp"
 #include "joint_model_output_error.hpp"
+#include "joint_model_regime_search.hpp"
 #include "joint_model_solve.hpp"
 #include "model_operator.hpp"
 
@@ -338,6 +339,15 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
       model = std::move(other);
       phi = std::move(other_phi);
     }
+  }
+  if (structure.regime_search && structure.op == OperatorKind::kBacklash && model.ok) {
+    const detail::FitForRegimes refit = [&](const Basis& regimes, const JointModel& warm) {
+      return fit_with_basis(config, layout, data, ls_structure, regimes, nullptr, &warm);
+    };
+    detail::RegimeSearch searched = detail::search_regimes(config, layout, data, w, std::move(model), std::move(phi),
+                                                           refit);
+    model = std::move(searched.model);
+    phi = std::move(searched.phi);
   }
   if (!structure.instrumental || !model.ok) return model;
   // Instrumental variables: the noise-free simulated output of the least-squares model replaces y in the

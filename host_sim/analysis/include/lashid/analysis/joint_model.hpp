@@ -60,6 +60,11 @@ struct ModelStructure {
   /// takes its own regimes ends the regime iteration. Off in the diagnosis: on the tuning seeds it made the
   /// fits from the true regimes consistent but the diagnosis worse and 4 times slower (docs/diagnose.md).
   bool regime_consistency = false;
+  /// Backlash only: after the regime iteration, a search over the pulse experiments' periodic regime pattern,
+  /// judged by the model's own one-step error (joint_model_regime_search.hpp). About 2T fits per change, T the
+  /// pulse period. Off in the diagnosis: on the tuning seeds it cut the true-lag fits' own error but not the
+  /// misses, at several times the cost (docs/diagnose.md); `diagnose-sweep --oracle` reports it.
+  bool regime_search = false;
 };
 
 /// A fitted model, in the scaling of (3.11c) (u~ = F - u_M, C~_d(v_min) = -1).
