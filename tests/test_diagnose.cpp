@@ -192,22 +192,32 @@ TEST(JointModel, ASwitchsOwnOneStepErrorIsItsRegressionError) {
                std::invalid_argument);
 }
 
+// An input lag hidden behind curved borders, and the structure the diagnosis fits for it at the true lambda (the
+// finer border tables of the lambda search).
+HiddenEffectCase curved_lag_case(std::uint64_t seed) {
+  HiddenEffectOptions options;
+  options.borders = BorderShape::kCurved;
+  return generate_hidden_effect_case(std::vector<Cause>{Cause::kInputLag}, seed, options);
+}
+ModelStructure true_lag_structure(const HiddenEffectCase& c) {
+  const DiagnosisOptions defaults;
+  ModelStructure s;
+  s.op = c.effect.true_operator;
+  s.input_lag = c.effect.lambda;
+  s.border_segments = defaults.lag_border_segments;
+  s.border_smoothness = defaults.lag_border_smoothness;
+  return s;
+}
+
 // ModelStructure::regime_consistency, from the true plant's regimes (curved borders, a backlash behind an input
 // lag, seed 5402, found by scanning 5400-5439 with diagnose-sweep --oracle for a fit that breaks them): least
 // squares alone ends with borders whose own backlash leaves those regimes (own one-step error 20 times the noise);
 // held to them, the fit takes its own regimes, so its own error is its regression error (two implementations),
 // at the noise level (closed form: rows x variance).
 TEST(JointModel, RegimeConsistencyKeepsABacklashFitOnItsOwnRegimes) {
-  HiddenEffectOptions options;
-  options.borders = BorderShape::kCurved;
-  const HiddenEffectCase c = generate_hidden_effect_case(std::vector<Cause>{Cause::kInputLag}, 5402, options);
+  const HiddenEffectCase c = curved_lag_case(5402);
   ASSERT_EQ(c.effect.true_operator, OperatorKind::kBacklash);
-  const DiagnosisOptions defaults;
-  ModelStructure s;
-  s.op = OperatorKind::kBacklash;
-  s.input_lag = c.effect.lambda;
-  s.border_segments = defaults.lag_border_segments;
-  s.border_smoothness = defaults.lag_border_smoothness;
+  ModelStructure s = true_lag_structure(c);
   const FlatRecording data = flatten(c.recording);
   const JointModel tables = fit_joint_model(c.config, data, s);
   ASSERT_TRUE(tables.ok) << tables.failure;
@@ -229,16 +239,9 @@ TEST(JointModel, RegimeConsistencyKeepsABacklashFitOnItsOwnRegimes) {
 // (closed form: rows x variance), and the model simulates val better. A switch has no regimes to search: the
 // option changes nothing.
 TEST(JointModel, RegimeSearchBringsABacklashFitToItsOwnRegimes) {
-  HiddenEffectOptions options;
-  options.borders = BorderShape::kCurved;
-  const HiddenEffectCase c = generate_hidden_effect_case(std::vector<Cause>{Cause::kInputLag}, 5456, options);
+  const HiddenEffectCase c = curved_lag_case(5456);
   ASSERT_EQ(c.effect.true_operator, OperatorKind::kBacklash);
-  const DiagnosisOptions defaults;
-  ModelStructure s;
-  s.op = OperatorKind::kBacklash;
-  s.input_lag = c.effect.lambda;
-  s.border_segments = defaults.lag_border_segments;
-  s.border_smoothness = defaults.lag_border_smoothness;
+  ModelStructure s = true_lag_structure(c);
   const FlatRecording data = flatten(c.recording);
   const JointModel plain = fit_joint_model(c.config, data, s);
   s.regime_search = true;
