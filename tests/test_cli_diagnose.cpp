@@ -105,7 +105,7 @@ TEST_F(CliDiagnose, SweepRunsOnlyTheNamedRowAndRefusesAnUnknownOne) {
 
 // diagnose-sweep --oracle: for an input lag (only the equation error disturbs it) the generator's plant on the
 // true-structure fit's tables predicts to the noise level (closed form: one-step error = rows x noise variance, so
-// about 1 with linear borders, which the tables hold exactly). One case: a diagnosis and three more fits.
+// about 1 with linear borders, which the tables hold exactly). One case: a diagnosis and four more fits.
 TEST_F(CliDiagnose, SweepOracleComparesTheTruePlantWithTheFit) {
   const Outcome r = run({"diagnose-sweep", "--row", "input_lag", "--seeds", "1", "--first-seed", "5360", "--oracle",
                          "--verbose", "--json", "sweep.json"});
@@ -118,6 +118,9 @@ TEST_F(CliDiagnose, SweepOracleComparesTheTruePlantWithTheFit) {
   EXPECT_GT(lag.at("oracle").at("val_truth").get<double>(), 95.0);
   // Held to the true regimes, the fit takes its own regimes: its own error is at the noise level too.
   EXPECT_LT(lag.at("oracle").at("from_true_regimes_consistent").get<double>(), 1.3);
+  // So does the fit with a regime search, which does not use the truth.
+  EXPECT_LT(lag.at("oracle").at("regime_search").get<double>(), 1.3);
+  EXPECT_NE(r.out.find("with a regime search"), std::string::npos) << r;
 }
 
 }  // namespace
