@@ -1,0 +1,1 @@
+// The translation unit that builds the tests' precompiled header (target lashid_test_pch, tests/CMakeLists.txt).
