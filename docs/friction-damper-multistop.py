@@ -54,8 +54,9 @@ def design(v, widths, a):
 
 
 def fit(files, widths):
-    x = np.vstack([design(load(f)[0], widths, 0.0) for f in files])
-    y = np.concatenate([load(f)[1] for f in files])
+    records = [load(f) for f in files]
+    x = np.vstack([design(v, widths, 0.0) for v, _ in records])
+    y = np.concatenate([force for _, force in records])
     return np.linalg.solve(x.T @ x + RIDGE * np.eye(x.shape[1]), x.T @ y)
 
 

@@ -61,6 +61,7 @@ RegimeSearch search_regimes(const ExperimentConfig& config, const Layout& layout
   for (int round = 0; round < kRegimeSearchRounds; ++round) {
     JointModel best;
     std::vector<signed char> best_label;
+    Basis best_phi;
     double best_own = own * (1.0 - kRegimeSearchGain);
     for (const PulseRun& run : runs) {
       // The pattern is read in a period from the middle of the phase, past its start's transient.
@@ -76,13 +77,15 @@ RegimeSearch search_regimes(const ExperimentConfig& config, const Layout& layout
           const bool repeats = data.v[t] == data.v[reference + k] && data.v[t - 1] == data.v[reference + k - 1];
           if (repeats && changed[t] == from) changed[t] = to;
         }
-        JointModel candidate = fit(basis_of(changed, layout, w, result.phi[0]), result.model);
+        Basis candidate_phi = basis_of(changed, layout, w, result.phi[0]);
+        JointModel candidate = fit(candidate_phi, result.model);
         if (!candidate.ok) continue;
         const double candidate_own = self_consistent_rss(candidate, data);
         if (candidate_own < best_own) {
           best_own = candidate_own;
           best = std::move(candidate);
           best_label = std::move(changed);
+          best_phi = std::move(candidate_phi);
         }
       }
     }
@@ -90,7 +93,7 @@ RegimeSearch search_regimes(const ExperimentConfig& config, const Layout& layout
     own = best_own;
     label = std::move(best_label);
     result.model = std::move(best);
-    result.phi = basis_of(label, layout, w, result.phi[0]);
+    result.phi = std::move(best_phi);
     ++result.changes;
   }
   return result;
