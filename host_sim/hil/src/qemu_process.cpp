@@ -67,7 +67,7 @@ void fail_errno(const std::string& what) {
   throw std::runtime_error(fmt::format("hil: {}: {}", what, std::strerror(errno)));
 }
 
-void write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what) {
+bool write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what) {
   std::size_t done = 0;
   while (done < bytes.size()) {
     // send(MSG_NOSIGNAL), not write(): a closed peer is EPIPE here, not a SIGPIPE that kills the tool and leaves
@@ -75,13 +75,12 @@ void write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what)
     const ssize_t n = ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      if (errno == EPIPE || errno == ECONNRESET) {
-        throw std::runtime_error(fmt::format("hil: QEMU closed {} (the firmware or QEMU stopped)", what));
-      }
+      if (errno == EPIPE || errno == ECONNRESET) return false;
       fail_errno(fmt::format("write to QEMU's {}", what));
     }
     done += static_cast<std::size_t>(n);
   }
+  return true;
 }
 
 void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid_t& qemu, SessionFds& fds) {

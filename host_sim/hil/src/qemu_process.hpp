@@ -23,9 +23,9 @@ struct SessionFds {
 /// Throws std::runtime_error "hil: WHAT: strerror(errno)".
 [[noreturn]] void fail_errno(const std::string& what);
 
-/// Writes every byte to a socket. A peer that has closed it (QEMU exited or was killed) is an error naming `what`,
-/// never a SIGPIPE.
-void write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what);
+/// Writes every byte to a socket. False: the peer has closed it (QEMU exited or was killed; never a SIGPIPE). Any
+/// other failure throws, naming `what`.
+[[nodiscard]] bool write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what);
 
 /// Starts QEMU with options.firmware, UART0 and UART1 on two sockets in `dir` that the host listens on, and its
 /// console on a pipe. Sets `qemu` to its pid as soon as it runs (also when connecting then fails, for the caller

@@ -40,6 +40,8 @@ constexpr std::chrono::seconds kStalled{2};
 /// firmware writes a request in one go, and repeats a lost one after 10 ms). QEMU may deliver the bytes one by one,
 /// so only the first is looked at: a frame's continuation rarely starts with the sync byte after such a pause.
 constexpr milliseconds kPlantFrameGap{5};
+/// A QEMU that closed a UART is exiting; one that has not exited this long after is reported as such.
+constexpr std::chrono::seconds kExitAfterClose{5};
 
 std::vector<std::uint8_t> command(link::Command c, std::optional<std::uint8_t> argument = std::nullopt) {
   link::PayloadWriter w;
@@ -89,6 +91,9 @@ class Session {
       if (now > deadline) throw std::runtime_error(timeout_message(now));
       poll_once();
       if (qemu_ > 0 && exited()) return;
+      if (closed_at_ && now - *closed_at_ > kExitAfterClose) {
+        throw std::runtime_error(fmt::format("hil: QEMU closed {} but has not exited", closed_what_));
+      }
       if (act(Clock::now())) return;
     }
   }
@@ -97,11 +102,31 @@ class Session {
   enum class Step { kQuery, kDesign, kStart, kRun, kReports, kFinish };
 
   void send_link(const std::vector<std::uint8_t>& bytes) {
-    if (fds_.link < 0) return;
+    if (fds_.link < 0 || writes_closed_) return;
     // Whatever the host sends asks for an answer: a report cut short before it must not swallow the answer's start.
     if (link_decoder_.abandon_partial()) ++result_.protocol_errors;
     const auto out = to_link_.pass(bytes.data(), bytes.size());
-    write_all(fds_.link, out, "the link (UART0)");
+    if (!write_all(fds_.link, out, "the link (UART0)")) closed_by_peer(nullptr, "the link (UART0)");
+  }
+
+  // QEMU closed a UART: `fd` read its end (closed here), or (nullptr) a write found it closed, and what QEMU wrote
+  // before is still to be read. When the host started QEMU, QEMU is exiting (the firmware ended the run, or QEMU was
+  // killed): the loop reads what is pending and reaps it, which says why (a refused design, a signal). Throwing here
+  // would race that exit and hide the reason. A QEMU the user started cannot be reaped: an error unless the host
+  // already has every report.
+  void closed_by_peer(int* fd, const char* what) {
+    if (fd != nullptr) {
+      ::close(*fd);
+      *fd = -1;
+    } else {
+      writes_closed_ = true;
+    }
+    if (qemu_ <= 0) {
+      if (reports_complete()) return;
+      throw std::runtime_error(fmt::format("hil: QEMU closed {} before the run ended", what));
+    }
+    if (!closed_at_) closed_at_ = Clock::now();
+    closed_what_ = what;
   }
 
   // Sends `bytes` again if the answer has not come within kAnswerWait (counted as a host retry).
@@ -213,8 +238,10 @@ class Session {
     if (new_frame && now - last_plant_byte_ > kPlantFrameGap) peer_.silence();
     last_plant_byte_ = now;
     const auto reply = peer_.receive(from_plant_.pass(data, size));
-    if (reply.empty() || fds_.plant < 0) return;
-    write_all(fds_.plant, to_plant_.pass(reply.data(), reply.size()), "the plant port (UART1)");
+    if (reply.empty() || fds_.plant < 0 || writes_closed_) return;
+    if (!write_all(fds_.plant, to_plant_.pass(reply.data(), reply.size()), "the plant port (UART1)")) {
+      closed_by_peer(nullptr, "the plant port (UART1)");
+    }
   }
 
   void poll_once() {
@@ -226,10 +253,11 @@ class Session {
       int& fd = k == 0 ? fds_.link : k == 1 ? fds_.plant : fds_.console;
       const ssize_t n = ::read(fd, buffer, sizeof(buffer));
       if (n <= 0) {
-        ::close(fd);
-        fd = -1;
-        if (qemu_ <= 0 && k < 2 && !reports_complete()) {
-          throw std::runtime_error("hil: QEMU closed a UART before the run ended");
+        if (k < 2) {
+          closed_by_peer(&fd, k == 0 ? "the link (UART0)" : "the plant port (UART1)");
+        } else {
+          ::close(fd);
+          fd = -1;
         }
         continue;
       }
@@ -324,6 +352,9 @@ class Session {
   Clock::time_point sent_at_{};
   Clock::time_point last_heard_{};
   Clock::time_point last_plant_byte_{};
+  std::optional<Clock::time_point> closed_at_;  // when QEMU first closed a UART (the host's own QEMU only)
+  const char* closed_what_ = "";
+  bool writes_closed_ = false;  // a write found a UART closed: QEMU is going, nothing more is sent
 };
 
 }  // namespace
