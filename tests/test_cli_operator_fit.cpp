@@ -74,8 +74,21 @@ TEST_F(OperatorFitCli, ReportsTheDynamicsAfterTheOperatorPerTestFile) {
     EXPECT_EQ(fits["extended"], j["extended"]["fit_test"][file]);
     EXPECT_EQ(fits["extended_dynamics"], j["dynamics"]["fit_test"][file]);
     EXPECT_TRUE(fits["extended_dynamics"].is_number()) << file;
-    EXPECT_TRUE(j["loop_analysis"][file]["extended_error_oscillation"]["peak_hz"].is_number());
+    const json& oscillation = j["loop_analysis"][file]["extended_error_oscillation"];
+    EXPECT_TRUE(oscillation["peak_hz"].is_number());
+    // The displacement's echo is taken at the oscillation's peak, from the decimated record's 1 s windows.
+    const json& echo = oscillation["displacement_echo"];
+    EXPECT_EQ(echo["hz"], oscillation["peak_hz"]);
+    EXPECT_GE(echo["coherence"].get<double>(), 0.0);
+    EXPECT_LE(echo["coherence"].get<double>(), 1.0 + 1e-12);
+    EXPECT_GE(echo["windows"].get<int>(), 2);
   }
+  // The file whose error is most fast oscillation is one of the test files, and its words are those of its echo.
+  const json& words = j["oscillation_in_words"];
+  const std::string worst = words["file"].get<std::string>();
+  EXPECT_TRUE(worst == kTest1 || worst == kTest2) << worst;
+  EXPECT_EQ(words["text"], j["loop_analysis"][worst]["extended_error_oscillation"]["displacement_echo"]["text"]);
+  EXPECT_TRUE(Contains(r.out, "what the final model misses most: on " + worst));
   EXPECT_TRUE(j["dynamics_in_words"]["named_as_cause"].is_boolean());
   EXPECT_TRUE(Contains(j["dynamics_in_words"]["text"].get<std::string>(), "identified on the training files only"));
 }

@@ -12,6 +12,7 @@
 
 #include "data_error_matchers.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
+#include "lashid/operator_fit/displacement_echo.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
 
 namespace {
@@ -184,6 +185,64 @@ TEST(ErrorOscillation, FindsTheFrequencyAndShareOfAFastErrorOverASlowOne) {
   EXPECT_EQ(error_oscillation(simulated, simulated, rate).fast_share, 0.0);
   EXPECT_TRUE(Contains(error_of<std::invalid_argument>([] { error_oscillation(std::vector<double>{1, 2}, std::vector<double>{1}, 1.0); }),
                        "need equal sizes (2 vs 1)"));
+}
+
+// A chatter-like force oscillation: 14 Hz whose phase wanders (a random walk, 0.02 rad per sample), 20 s at kRate.
+std::vector<double> chatter(double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> step(0.0, 0.02);
+  std::vector<double> c;
+  double phase = 0;
+  for (int t = 0; t < 20 * 1024; ++t) {
+    phase += step(rng);
+    c.push_back(amplitude * std::sin(2 * kPi * 14 * t / kRate + phase));
+  }
+  return c;
+}
+
+// The model misses a force oscillation c; the displacement is a slow 2 Hz sine plus (a) the rig's yield to that
+// force, -c / K, (b) the same oscillation driving a slider of stiffness k (e = k v_fast), or (c) an unrelated
+// oscillation of its own. Closed forms: (a) the transfer v -> e is -K (gain K, antiphase), coherence 1; (b) +k, in
+// phase; (c) coherence near 0 (independent signals: bias about 1 / windows = 1 / 39).
+TEST(DisplacementEcho, TellsAnEchoFromADriveAndFromNoRelation) {
+  constexpr double rig = 500, slider = 34;
+  const std::vector<double> c = chatter(0.3, 1), other = chatter(0.3 / rig, 2);
+  std::vector<double> echoed, driven, unrelated, drive_force, zero(c.size(), 0.0);
+  for (std::size_t t = 0; t < c.size(); ++t) {
+    const double slow = 0.05 * std::sin(2 * kPi * 2 * static_cast<double>(t) / kRate);
+    echoed.push_back(slow - c[t] / rig);
+    driven.push_back(slow + other[t]);
+    drive_force.push_back(slider * other[t]);
+    unrelated.push_back(slow + other[t]);
+  }
+  const DisplacementEcho a = displacement_echo(echoed, c, zero, kRate, 14);
+  EXPECT_EQ(a.windows, 39);
+  EXPECT_NEAR(a.gain, rig, 0.02 * rig);
+  EXPECT_GT(std::abs(a.phase_deg), 175.0);
+  EXPECT_GT(a.coherence, 0.95);
+  const std::string a_words = displacement_echo_words(a, slider);
+  EXPECT_TRUE(Contains(a_words, "echoed by the displacement")) << a_words;
+  EXPECT_TRUE(Contains(a_words, "15 times the slider's stiffness of 34.0")) << a_words;
+
+  const DisplacementEcho b = displacement_echo(driven, drive_force, zero, kRate, 14);
+  EXPECT_NEAR(b.gain, slider, 0.02 * slider);
+  EXPECT_LT(std::abs(b.phase_deg), 5.0);
+  EXPECT_TRUE(Contains(displacement_echo_words(b, slider), "driven by the displacement"));
+
+  const DisplacementEcho d = displacement_echo(unrelated, c, zero, kRate, 14);
+  EXPECT_LT(d.coherence, 0.2);
+  EXPECT_TRUE(Contains(displacement_echo_words(d, slider), "not coherent with the displacement"));
+
+  // Too short for two windows: nothing is claimed. Bad arguments are named.
+  const std::vector<double> short_record(1000, 0.0);
+  EXPECT_EQ(displacement_echo(short_record, short_record, short_record, kRate, 14).windows, 0);
+  EXPECT_TRUE(Contains(displacement_echo_words(displacement_echo(short_record, short_record, short_record, kRate, 14),
+                                               slider),
+                       "fewer than two windows"));
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([&] { displacement_echo(echoed, c, short_record, kRate, 14); }),
+                       "need equal sizes (20480, 20480, 1000)"));
+  EXPECT_TRUE(Contains(error_of<std::invalid_argument>([&] { displacement_echo(echoed, c, zero, kRate, -1); }),
+                       "hz and window positive"));
 }
 
 // ---------------------------------------------------------------------------------------------- cause rule

@@ -127,6 +127,8 @@ struct TestResults {
   std::vector<LoopAnalysis> final_operator;  // the tension model when on, else the tension-blind extended one
   TestErrors dynamics_gain;  // squared errors of the final operator without and with the dynamics
   TestErrors tension_gain;   // squared errors of the tension-blind and the tension model
+  json oscillation_words = nullptr;  // the file whose final-model error is most fast oscillation, in words
+  double largest_fast_share = -1;
 };
 
 double squared_error(const DamperRecord& rec, const std::vector<double>& u_sim) {
@@ -191,6 +193,15 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
                "that fast part fits at most {:.1f} %\n",
                tensions.fit ? "Tension" : "Extended", 100 * osc.fast_share, osc.peak_amplitude, osc.peak_hz,
                ceiling);
+    // Where that oscillation comes from: the displacement's cross-spectrum with the error at its peak.
+    const DisplacementEcho echo = displacement_echo(rec.v, rec.u, u_fin, rate, osc.peak_hz);
+    const std::string echo_words = displacement_echo_words(echo, a_fin.simulated_reversal_slope);
+    fmt::print("  That fast part is {}\n", echo_words);
+    if (osc.fast_share > out.largest_fast_share) {
+      out.largest_fast_share = osc.fast_share;
+      out.oscillation_words = {{"file", rec.source}, {"fast_share", osc.fast_share}, {"peak_hz", osc.peak_hz},
+                               {"fit_ceiling_without_it", ceiling}, {"text", echo_words}};
+    }
     // Two things a test record does not tell, profiled for the final model (test_profiles.hpp): the slider's
     // initial position and the band tension (one training span beyond each end). Bounds, not scores.
     const FitProfile start = initial_offset_profile(final_op, dynamics, rec);
@@ -210,11 +221,8 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
                              {"extended", analysis_json(a_ext)},
                              {"extended_dynamics", analysis_json(a_dyn)},
                              {"extended_error_oscillation",
-                              {{"model", tensions.fit ? "extended_tension" : "extended"},
-                               {"fast_share", osc.fast_share},
-                               {"peak_hz", osc.peak_hz},
-                               {"peak_amplitude", osc.peak_amplitude},
-                               {"fit_ceiling_without_it", ceiling}}}};
+                              oscillation_json(tensions.fit ? "extended_tension" : "extended", osc, ceiling, echo,
+                                               echo_words)}};
     if (tensions.fit) out.loops[rec.source]["extended_tension"] = analysis_json(a_fin);
     report::plot::Panel panel{std::filesystem::path(rec.source).filename().string(), "displacement v", "force u",
                               {{"measured", rec.v, rec.u},
@@ -369,6 +377,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
                "{}\n",
                100 * DamperCauseOptions{}.dynamics_error_reduction, dynamics_words);
   }
+  print_oscillation_words(results.oscillation_words);
   figure.panels.push_back(fitted_models_panel(nominal, extended, tensions.fit ? &*tensions.fit : nullptr));
 
   // The actuator of DIS/AIS: the final operator, at the lowest training tension when it is per band tension.
@@ -386,6 +395,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
       {"tension_in_words", tension_words},
       {"dynamics", dynamics_json(dynamics, poles, rate, chain, results.fit_dynamics)},
       {"dynamics_in_words", {{"named_as_cause", dynamics_named}, {"text", dynamics_words}}},
+      {"oscillation_in_words", results.oscillation_words},
       {"fit_test", summary_json(results)},
       {"cause", causes_json(causes)},
       {"loop_analysis", results.loops},

@@ -218,4 +218,25 @@ void print_profile(const sim::FitProfile& profile, const std::string& what, doub
              what, used_fit, profile.points.size(), profile.parameter, profile.best_value, profile.best_fit);
 }
 
+json oscillation_json(const std::string& model, const ErrorOscillation& oscillation, double ceiling,
+                      const DisplacementEcho& echo, const std::string& echo_words) {
+  return {{"model", model},
+          {"fast_share", oscillation.fast_share},
+          {"peak_hz", oscillation.peak_hz},
+          {"peak_amplitude", oscillation.peak_amplitude},
+          {"fit_ceiling_without_it", ceiling},
+          {"displacement_echo",
+           {{"hz", echo.hz}, {"coherence", echo.coherence}, {"gain", echo.gain}, {"phase_deg", echo.phase_deg},
+            {"windows", echo.windows}, {"text", echo_words}}}};
+}
+
+void print_oscillation_words(const json& words) {
+  if (words.is_null()) return;
+  fmt::print("  - what the final model misses most: on {}, {:.0f} % of its error changes faster than about 10 Hz, "
+             "peaking at {:.0f} Hz (a model that misses it fits at most {:.1f} %); that part is {}\n",
+             words["file"].get<std::string>(), 100 * words["fast_share"].get<double>(),
+             words["peak_hz"].get<double>(), words["fit_ceiling_without_it"].get<double>(),
+             words["text"].get<std::string>());
+}
+
 }  // namespace lashid::app

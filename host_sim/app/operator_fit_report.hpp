@@ -10,6 +10,7 @@
 
 #include "lashid/operator_fit/band_tension.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
+#include "lashid/operator_fit/displacement_echo.hpp"
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
 #include "lashid/operator_fit/test_profiles.hpp"
@@ -37,6 +38,12 @@ nlohmann::json extended_json(const sim::ExtendedFit& extended, const sim::Hyster
 nlohmann::json tension_json(const sim::TensionFrictionFit& fit, const nlohmann::json& fit_test);
 void print_tension(const sim::TensionFrictionFit& fit);
 /// A profile over an unknown of a test record (test_profiles.hpp): every (value, fit) and the best.
+/// A test file's fast error (error_oscillation) and the displacement's echo of it (displacement_echo).
+nlohmann::json oscillation_json(const std::string& model, const sim::ErrorOscillation& oscillation, double ceiling,
+                                const sim::DisplacementEcho& echo, const std::string& echo_words);
+/// The file whose final-model error is most fast oscillation, in words (nothing for null).
+void print_oscillation_words(const nlohmann::json& words);
+
 nlohmann::json profile_json(const sim::FitProfile& profile);
 /// One line: the fit at the value used, and the best value and its fit, as a bound and not a score.
 void print_profile(const sim::FitProfile& profile, const std::string& what, double used_fit);
