@@ -137,6 +137,11 @@ struct DiagnosisOptions {
   /// (ColoredNoiseCheck::aperiodic_correlation): on curved borders an input lag's residuals repeat with the pulse
   /// period (Q / N 0.031-1.4 raw, 0.002-0.04 without the periodic part on tuning seeds) and sensor noise's do not.
   bool coloured_aperiodic = true;
+  /// Once colored_noise is named, a structural cause is dropped if the structure without it, fitted by the
+  /// colored_noise estimator, simulates val more than coloured_backward_gain points better (drop_absorbing_causes,
+  /// diagnosis_selection.cpp; session 13, chosen on the tuning seeds 1040-1239).
+  bool coloured_backward = true;
+  double coloured_backward_gain = 5.0;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
