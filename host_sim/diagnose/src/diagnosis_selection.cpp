@@ -7,6 +7,7 @@
 #include <future>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "lashid/estimator/design.hpp"
@@ -159,6 +160,27 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   end_last_step_here(d, current);  // the last step's gain includes the re-searched lambda
 }
 
+// From the last added to the first, each structural cause for which `without(cause)` gives a model is dropped, and
+// that model becomes the current one. The steps still add up to the total: the next step starts where the dropped
+// one did, the last ends here. Returns how many were dropped.
+template <class Without>
+int drop_causes(Diagnosis& d, CurrentModel& current, const FlatRecording& data, Without without) {
+  int count = 0;
+  for (std::size_t i = d.added.size(); i-- > 0;) {
+    const Cause cause = d.added[i].cause;
+    if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
+    const std::optional<JointModel> reduced = without(cause);
+    if (!reduced) continue;
+    const AddedCause dropped = d.added[i];
+    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
+    adopt(current, *reduced, d, data);
+    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
+    end_last_step_here(d, current);
+    ++count;
+  }
+  return count;
+}
+
 // Backward elimination once the forward selection is done: a structural cause that the final model no longer
 // needs (refitted without it, the others kept as they are, the likelihood ratio is not significant) is dropped.
 // The two-causes fallback adds a pair whose first member is not tested alone: on curved borders a drift of
@@ -166,20 +188,14 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
 void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                           const FlatRecording& data, const DiagnosisOptions& options) {
   if (!options.backward_elimination) return;
-  for (std::size_t i = d.added.size(); i-- > 0;) {
-    const Cause cause = d.added[i].cause;
-    if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
-    const JointModel reduced =
+  drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
+    JointModel reduced =
         fit_joint_model(config, data, without_cause(current.model.structure, cause), &current.model);
-    if (!reduced.ok) continue;
-    if (detail::significant(detail::likelihood_ratio(reduced, current.model), options)) continue;
-    const AddedCause dropped = d.added[i];
-    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
-    adopt(current, reduced, d, data);
-    // The steps still add up to the total: the next step starts where the dropped one did, the last ends here.
-    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
-    end_last_step_here(d, current);
-  }
+    if (!reduced.ok || detail::significant(detail::likelihood_ratio(reduced, current.model), options)) {
+      return std::nullopt;
+    }
+    return reduced;
+  });
 }
 
 // Once colored_noise is named, the structural causes are judged again by the estimator that a coloured
@@ -193,28 +209,23 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
 void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                            const FlatRecording& data, const DiagnosisOptions& options) {
   if (!options.coloured_backward) return;
-  for (std::size_t i = d.added.size(); i-- > 0;) {
-    const Cause cause = d.added[i].cause;
-    if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
+  const int dropped = drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
     ModelStructure s = without_cause(current.model.structure, cause);
     s.instrumental = true;
     s.output_error = options.coloured_output_error;
-    const JointModel reduced = fit_joint_model(config, data, s, &current.model);
-    if (!reduced.ok) continue;
-    if (!(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
-      continue;
+    JointModel reduced = fit_joint_model(config, data, s, &current.model);
+    if (!reduced.ok ||
+        !(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
+      return std::nullopt;
     }
-    const AddedCause dropped = d.added[i];
-    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
-    adopt(current, reduced, d, data);
-    // The steps still add up to the total (as in drop_unneeded_causes); colored_noise's model is now IV-based.
-    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
-    for (AddedCause& a : d.added) {
-      if (a.cause != Cause::kColoredNoise) continue;
-      a.parameters.instrumental_variables = true;
-      a.parameters.output_error = reduced.structure.output_error;
-    }
-    end_last_step_here(d, current);
+    return reduced;
+  });
+  if (dropped == 0) return;
+  // colored_noise's model is now the colored_noise estimator's fit.
+  for (AddedCause& a : d.added) {
+    if (a.cause != Cause::kColoredNoise) continue;
+    a.parameters.instrumental_variables = true;
+    a.parameters.output_error = current.model.structure.output_error;
   }
 }
 
