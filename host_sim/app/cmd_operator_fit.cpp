@@ -128,7 +128,6 @@ struct TestResults {
   TestErrors dynamics_gain;  // squared errors of the final operator without and with the dynamics
   TestErrors tension_gain;   // squared errors of the tension-blind and the tension model
   json oscillation_words = nullptr;  // the file whose final-model error is most fast oscillation, in words
-  double largest_fast_share = -1;
 };
 
 double squared_error(const DamperRecord& rec, const std::vector<double>& u_sim) {
@@ -197,8 +196,7 @@ TestResults evaluate_test_files(const std::vector<DamperRecord>& test, const Nom
     const DisplacementEcho echo = displacement_echo(rec.v, rec.u, u_fin, rate, osc.peak_hz);
     const std::string echo_words = displacement_echo_words(echo, a_fin.simulated_reversal_slope);
     fmt::print("  That fast part is {}\n", echo_words);
-    if (osc.fast_share > out.largest_fast_share) {
-      out.largest_fast_share = osc.fast_share;
+    if (out.oscillation_words.is_null() || osc.fast_share > out.oscillation_words["fast_share"].get<double>()) {
       out.oscillation_words = {{"file", rec.source}, {"fast_share", osc.fast_share}, {"peak_hz", osc.peak_hz},
                                {"fit_ceiling_without_it", ceiling}, {"text", echo_words}};
     }

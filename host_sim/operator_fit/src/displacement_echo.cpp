@@ -1,6 +1,7 @@
 // The cross-spectrum of displacement and model error near one frequency (see displacement_echo.hpp).
 #include "lashid/operator_fit/displacement_echo.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -8,6 +9,8 @@
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "fourier.hpp"
 
 namespace lashid::sim {
 
@@ -19,18 +22,13 @@ constexpr double kCoherent = 0.5;
 /// A gain this many times the slider's own stiffness is not the slider: it is a stiffer path (the rig).
 constexpr double kStifferThanSlider = 3.0;
 
-// Fourier coefficient at `hz` of a window's samples (mean removed, Hann weighted), by a rotating phasor.
-std::complex<double> coefficient(std::span<const double> x, const std::vector<double>& hann, double hz, double rate) {
+// A window of x, its mean removed, Hann weighted, into `out`.
+void weighted_window(std::span<const double> x, const std::vector<double>& hann, std::vector<double>& out) {
   double mean = 0;
   for (double s : x) mean += s;
   mean /= static_cast<double>(x.size());
-  const std::complex<double> turn = std::polar(1.0, -2 * std::numbers::pi * hz / rate);
-  std::complex<double> phasor = 1.0, sum = 0.0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    sum += hann[k] * (x[k] - mean) * phasor;
-    phasor *= turn;
-  }
-  return sum;
+  out.resize(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) out[k] = hann[k] * (x[k] - mean);
 }
 
 }  // namespace
@@ -55,26 +53,34 @@ DisplacementEcho displacement_echo(std::span<const double> v, std::span<const do
   for (std::size_t k = 0; k < length; ++k) {
     hann[k] = 0.5 * (1 - std::cos(2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(length - 1)));
   }
+  // Each window is weighted once; its coefficients at every frequency of the band accumulate the spectra (Welch).
+  struct Spectra {
+    double hz;
+    std::complex<double> cross{};  // sum of conj(V) E
+    double vv = 0, ee = 0;         // sums of |V|^2 and |E|^2
+  };
+  std::vector<Spectra> band;
+  for (double f = std::max(hz - band_hz, 1e-9); f <= hz + band_hz + 1e-9; f += 1.0) band.push_back({f});
+  std::vector<double> wv, we;
+  for (std::size_t start = 0; start + length <= v.size(); start += length / 2, ++out.windows) {
+    weighted_window(v.subspan(start, length), hann, wv);
+    weighted_window(std::span<const double>(error).subspan(start, length), hann, we);
+    for (Spectra& s : band) {
+      const std::complex<double> a = detail::fourier_coefficient(wv, s.hz, sample_rate);
+      const std::complex<double> b = detail::fourier_coefficient(we, s.hz, sample_rate);
+      s.cross += std::conj(a) * b;
+      s.vv += std::norm(a);
+      s.ee += std::norm(b);
+    }
+  }
   double weighted = 0, power = 0;
-  for (double f = std::max(hz - band_hz, 1e-9); f <= hz + band_hz + 1e-9; f += 1.0) {
-    std::complex<double> cross = 0.0;
-    double vv = 0, ee = 0;
-    int windows = 0;
-    for (std::size_t start = 0; start + length <= v.size(); start += length / 2, ++windows) {
-      const std::complex<double> a = coefficient(v.subspan(start, length), hann, f, sample_rate);
-      const std::complex<double> b = coefficient(std::span<const double>(error).subspan(start, length), hann, f,
-                                                 sample_rate);
-      cross += std::conj(a) * b;
-      vv += std::norm(a);
-      ee += std::norm(b);
+  for (const Spectra& s : band) {
+    if (s.vv > 0 && s.ee > 0) {
+      weighted += std::norm(s.cross) / (s.vv * s.ee) * s.ee;
+      power += s.ee;
     }
-    out.windows = windows;
-    if (vv > 0 && ee > 0) {
-      weighted += std::norm(cross) / (vv * ee) * ee;
-      power += ee;
-    }
-    if (std::abs(f - hz) < 0.5 && vv > 0) {
-      const std::complex<double> transfer = cross / vv;
+    if (std::abs(s.hz - hz) < 0.5 && s.vv > 0) {
+      const std::complex<double> transfer = s.cross / s.vv;
       out.gain = std::abs(transfer);
       out.phase_deg = std::arg(transfer) * 180 / std::numbers::pi;
     }

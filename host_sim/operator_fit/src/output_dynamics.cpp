@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "lashid/stats/metrics.hpp"
+#include "fourier.hpp"
 
 namespace lashid::sim {
 
@@ -375,13 +376,7 @@ ErrorOscillation error_oscillation(std::span<const double> measured, std::span<c
   ErrorOscillation out;
   out.fast_share = total > 0 ? fast_energy / total : 0.0;
   for (double hz = from_hz; hz <= to_hz + 1e-9; hz += 1.0) {
-    // Fourier coefficient at hz by a rotating phasor (one complex multiplication per sample).
-    const std::complex<double> turn = std::polar(1.0, -2 * std::numbers::pi * hz / sample_rate);
-    std::complex<double> phasor = 1.0, sum = 0.0;
-    for (std::size_t t = 0; t < n; ++t) {
-      sum += fast[t] * phasor;
-      phasor *= turn;
-    }
+    const std::complex<double> sum = detail::fourier_coefficient(fast, hz, sample_rate);
     const double amplitude = n > 0 ? 2 * std::abs(sum) / static_cast<double>(n) : 0.0;
     if (amplitude > out.peak_amplitude) {
       out.peak_amplitude = amplitude;
