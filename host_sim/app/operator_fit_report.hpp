@@ -37,13 +37,12 @@ nlohmann::json extended_json(const sim::ExtendedFit& extended, const sim::Hyster
 /// The operator per band tension: r, G and k per training tension, the plateau slopes, and its test fits.
 nlohmann::json tension_json(const sim::TensionFrictionFit& fit, const nlohmann::json& fit_test);
 void print_tension(const sim::TensionFrictionFit& fit);
-/// A profile over an unknown of a test record (test_profiles.hpp): every (value, fit) and the best.
 /// A test file's fast error (error_oscillation) and the displacement's echo of it (displacement_echo).
 nlohmann::json oscillation_json(const std::string& model, const sim::ErrorOscillation& oscillation, double ceiling,
                                 const sim::DisplacementEcho& echo, const std::string& echo_words);
 /// The file whose final-model error is most fast oscillation, in words (nothing for null).
 void print_oscillation_words(const nlohmann::json& words);
-
+/// A profile over an unknown of a test record (test_profiles.hpp): every (value, fit) and the best.
 nlohmann::json profile_json(const sim::FitProfile& profile);
 /// One line: the fit at the value used, and the best value and its fit, as a bound and not a score.
 void print_profile(const sim::FitProfile& profile, const std::string& what, double used_fit);
