@@ -2,6 +2,7 @@
 // the rules of both readers of the file: the host's config reader (docs/data-format.md) and the firmware's
 // run-time check (fw::check_design, on the float32 design the device would run).
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -116,7 +117,10 @@ double grid_level(double v_min, double v_max, int K, int i) {
   if (i == 0) return v_min;
   if (i == K - 1) return v_max;
   const double steps = K - 1;
-  return (v_min * (steps - i) + v_max * i) / steps;
+  const double exact = (v_min * (steps - i) + v_max * i) / steps;
+  if (std::isfinite(exact)) return exact;
+  // Near the double range's end the products overflow; the weights' form cannot (a convex combination).
+  return v_min * ((steps - i) / steps) + v_max * (i / steps);
 }
 
 int run_write(const DesignArgs& a) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -11,6 +12,7 @@
 #include "lashid/io/files.hpp"
 #include "lashid/report/diagnose_plot.hpp"
 #include "lashid/report/json.hpp"
+#include "lashid/report/plot.hpp"
 #include "lashid/sim/hidden_effect.hpp"
 
 namespace lashid::app {
@@ -22,7 +24,7 @@ int run_diagnose(const DiagnoseArgs& args) {
   // As identify reads it: a float32 device's levels (lashid hil --record) given back as the config's.
   const Recording rec = read_recording_for(config, args.data);
   if (!args.json_out.empty()) check_can_write(args.json_out);
-  if (!args.plot_out.empty()) check_can_write(args.plot_out);
+  if (!args.plot_out.empty()) report::plot::check_can_plot(args.plot_out);
   const Diagnosis d = diagnose(config, rec, args.data);
   for (const std::string& line : d.findings) fmt::print("- {}\n", line);
   std::string names;
@@ -30,8 +32,9 @@ int run_diagnose(const DiagnoseArgs& args) {
     if (!names.empty()) names += '+';
     names += to_string(c);
   }
-  fmt::print("causes: {}\ncause: {} {}\nfit_nominal: {:.2f} %\nfit_extended: {:.2f} %\n", names, to_string(d.cause),
-             to_string(d.parameters), d.fit_nominal, d.fit_extended);
+  // "cause" is the strongest; "parameters" those of every cause found (as in the JSON).
+  fmt::print("causes: {}\ncause: {}\nparameters: {}\nfit_nominal: {:.2f} %\nfit_extended: {:.2f} %\n", names,
+             to_string(d.cause), to_string(d.parameters), d.fit_nominal, d.fit_extended);
   if (!args.plot_out.empty()) report::plot_diagnosis(d, args.plot_out);
   if (!args.json_out.empty()) write_json_file(args.json_out, to_json(d));
   return 0;
@@ -44,7 +47,11 @@ std::vector<Cause> parse_cause_list(std::string_view text) {
     const std::size_t end = std::min(text.find('+', begin), text.size());
     const std::string_view name = text.substr(begin, end - begin);
     const auto cause = parse_cause(name);
-    if (!cause) throw std::invalid_argument(fmt::format("unknown cause '{}'", name));
+    if (!cause) {
+      throw std::invalid_argument(fmt::format("--cause {}: unknown cause '{}' (none, input_lag, dead_time, "
+                                              "sensor_drift, colored_noise, operator_type)",
+                                              text, name));
+    }
     causes.push_back(*cause);
     begin = end + 1;
   }
@@ -61,7 +68,16 @@ int run_hidden_effect(const HiddenEffectArgs& args) {
   HiddenEffectOptions options;
   options.borders = parse_border_shape(args.borders);
   const std::vector<Cause> causes = parse_cause_list(args.cause);
-  const HiddenEffectCase c = generate_hidden_effect_case(causes, args.seed, options);
+  HiddenEffectCase c;
+  try {
+    c = generate_hidden_effect_case(causes, args.seed, options);
+  } catch (const std::invalid_argument& e) {
+    // The generator's rules on the list (a repeat, none with another) said in terms of the option.
+    std::string_view why = e.what();
+    constexpr std::string_view kPrefix = "generate_hidden_effect_case: ";
+    if (why.starts_with(kPrefix)) why.remove_prefix(kPrefix.size());
+    throw std::invalid_argument(fmt::format("--cause {}: {}", args.cause, why));
+  }
   check_can_write(args.data_out);
   check_can_write(args.config_out);
   write_json_file(args.config_out, to_json(c.config));

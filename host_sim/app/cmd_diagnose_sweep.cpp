@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -153,9 +154,8 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
       if (it == rows_hidden.end()) {
         std::string known;
         for (const auto& h : rows_hidden) known += (known.empty() ? "" : ", ") + names(h);
-        fmt::print(stderr, "error: --row '{}' is not a row of this table ({}){}\n", name, known,
-                   args.pairs ? "" : "; pairs need --pairs");
-        return 2;
+        throw std::invalid_argument(fmt::format("--row '{}' is not a row of this table ({}){}", name, known,
+                                                args.pairs ? "" : "; pairs need --pairs"));
       }
       chosen.push_back(*it);
     }

@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
+#include "lashid/io/files.hpp"
 #include "lashid/io/recording.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/report/report.hpp"
@@ -15,14 +16,17 @@ namespace lashid::app {
 using namespace lashid::sim;
 
 int run_identify(const IdentifyArgs& args) {
+  if (!args.json_out.empty()) check_can_write(args.json_out);  // before the work, not after it
   const ExperimentConfig config = read_config_json(args.config);
   // A float32 device's recording (lashid hil --record) holds float(V_j): the estimator is given the levels.
   const Recording rec = read_recording_for(config, args.data);
   IdentifyOptions options;
   options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
 
-  const bool want_dis = args.scheme == "dis" || (args.scheme == "both" && rec.has(Phase::kDis));
-  const bool want_ais = args.scheme == "ais" || (args.scheme == "both" && rec.has(Phase::kAis));
+  // auto: the schemes whose phases the data holds; dis, ais or both: those, and their phases must be there
+  // (identify_scheme names a missing one).
+  const bool want_dis = args.scheme == "dis" || args.scheme == "both" || (args.scheme == "auto" && rec.has(Phase::kDis));
+  const bool want_ais = args.scheme == "ais" || args.scheme == "both" || (args.scheme == "auto" && rec.has(Phase::kAis));
   if (!want_dis && !want_ais) {
     throw DataError(args.data, "no 'dis' or 'ais' phase: nothing to identify");
   }

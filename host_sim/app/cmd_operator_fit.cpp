@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -39,6 +41,20 @@ std::vector<DamperRecord> load(const std::vector<std::string>& files, int factor
   std::vector<DamperRecord> out;
   for (const auto& f : files) out.push_back(decimate(read_damper_csv(f), factor));
   return out;
+}
+
+// A test file that is also a training file would be scored in-sample and reported as a test fit.
+void check_held_out(const std::vector<std::string>& train, const std::vector<std::string>& test) {
+  for (const auto& t : test) {
+    for (const auto& f : train) {
+      std::error_code error;
+      if (t == f || std::filesystem::equivalent(t, f, error)) {
+        throw std::invalid_argument(fmt::format("--test {} is also a --train file ({}): a test file must not be "
+                                                "trained on, or its fit is in-sample",
+                                                t, f));
+      }
+    }
+  }
 }
 
 json run_identification(const HysteresisOperator& actuator, double v_min, double v_max) {
@@ -112,7 +128,8 @@ void write_outputs(const OperatorFitArgs& args, const report::plot::Figure& figu
 int run_operator_fit(const OperatorFitArgs& args) {
   // Nothing half-written: every destination is checked before any work, and written only at the end.
   if (!args.json_out.empty()) check_can_write(args.json_out);
-  if (!args.plot_out.empty()) check_can_write(args.plot_out);
+  if (!args.plot_out.empty()) report::plot::check_can_plot(args.plot_out, args.gnuplot);
+  check_held_out(args.train, args.test);
   const std::vector<DamperRecord> train = load(args.train, args.decimate);
   const std::vector<DamperRecord> test = load(args.test, args.decimate);
   OperatorFitOptions fit_options;
@@ -126,12 +143,24 @@ int run_operator_fit(const OperatorFitArgs& args) {
 
   Tensions tensions = resolve_tensions(args, train, test);  // before any fit: a missing tension is an input error
 
-  const NominalFit nominal = fit_nominal(train, fit_options);
+  // The fits' own errors name their function and rule; said here in terms of the files and options given.
+  const auto on_training_files = [&](auto fit) {
+    try {
+      return fit();
+    } catch (const std::invalid_argument& e) {
+      std::size_t samples = 0;
+      for (const auto& r : train) samples += r.v.size();
+      throw std::invalid_argument(fmt::format("cannot fit the operators to the {} --train file(s) ({} samples after "
+                                              "--decimate {}, --points {}): {}",
+                                              train.size(), samples, args.decimate, args.points, e.what()));
+    }
+  };
+  const NominalFit nominal = on_training_files([&] { return fit_nominal(train, fit_options); });
   const auto nominal_op = nominal.make();
   fmt::print("Nominal operators, borders = per-bin medians on {} points ({} training files): training fit switch "
              "{:.1f} %, backlash {:.1f} % -> {}\n",
              args.points, train.size(), nominal.fit_train_switch, nominal.fit_train_backlash, nominal.chosen);
-  const ExtendedFit extended = fit_extended(train, fit_options);
+  const ExtendedFit extended = on_training_files([&] { return fit_extended(train, fit_options); });
   const auto extended_op = extended.make();
   fmt::print("Extended operator friction_gap (tension-blind): play half-width r = {:.3f}, parallel stiffness k = "
              "{:.4f}, G on {} points: training fit {:.1f} %\n",
@@ -139,7 +168,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
   if (tensions.train.empty()) {
     fmt::print("No operator per band tension: {}\n\n", tensions.off_reason);
   } else {
-    tensions.fit = fit_extended_by_tension(train, tensions.train, fit_options);
+    tensions.fit = on_training_files([&] { return fit_extended_by_tension(train, tensions.train, fit_options); });
     print_tension(*tensions.fit);
   }
 

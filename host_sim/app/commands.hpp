@@ -30,7 +30,7 @@ struct IdentifyArgs {
   std::string config;
   std::string data;
   std::string json_out;
-  std::string scheme = "both";  // dis, ais, both
+  std::string scheme = "auto";  // dis, ais, both, or auto: those the data holds
   bool use_float = false;
 };
 int run_identify(const IdentifyArgs& args);

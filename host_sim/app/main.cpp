@@ -1,7 +1,10 @@
 // lashid: identification of actuators with backlash or switch behaviour followed by linear dynamics (DIS/AIS).
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <functional>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,6 +27,18 @@ namespace {
 const CLI::Validator kNonNegativeSeed(
     [](const std::string& value) { return value.starts_with('-') ? std::string("must not be negative") : std::string(); },
     "NONNEGATIVE");
+
+// CLI11's number checks (Range, NonNegativeNumber, ...) compare, and every comparison with NaN is false: "nan"
+// passed them and reached the code as a value. Every floating-point option therefore also gets this check.
+const CLI::Validator kFinite(
+    [](const std::string& value) {
+      char* end = nullptr;
+      const double x = std::strtod(value.c_str(), &end);
+      // Not a number at all: CLI11's own conversion names the error.
+      if (end == value.c_str()) return std::string();
+      return std::isfinite(x) ? std::string() : std::string("must be a finite number");
+    },
+    "FINITE");
 
 struct Arguments {
   SimulateArgs simulate;
@@ -60,11 +75,11 @@ CLI::App* add_simulate(CLI::App& app, SimulateArgs& args) {
       ->capture_default_str();
   cmd->add_option("--input-lag", args.input_lag,
                        "lambda of G = (1-lambda)/(1-lambda q^-1) before the operator (Section 3.5.3)")
-      ->check(CLI::Range(0.0, 0.999))
+      ->check(kFinite & CLI::Range(0.0, 0.999))
       ->capture_default_str()
       ->excludes(plant);
   cmd->add_option("--noise-variance", args.noise_variance, "Override the scenario's noise variance")
-      ->check(CLI::NonNegativeNumber)
+      ->check(kFinite & CLI::NonNegativeNumber)
       ->excludes(plant);
   cmd->add_option("--out", args.data_out, "Recording to write (CSV, docs/data-format.md)")->required();
   cmd->add_option("--config-out", args.config_out, "Config to write (JSON, with the truth)")->excludes(plant);
@@ -76,8 +91,11 @@ CLI::App* add_identify(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--config", args.config, "Experiment config (JSON)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--data", args.data, "Recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--json", args.json_out, "Write the estimates as JSON");
-  cmd->add_option("--scheme", args.scheme, "Which scheme(s): dis, ais or both (default: those the data holds)")
-      ->check(CLI::IsMember({"dis", "ais", "both"}));
+  cmd->add_option("--scheme", args.scheme,
+                  "Which scheme(s): dis, ais or both (each needs its phases), or auto: those whose phases the data "
+                  "holds")
+      ->check(CLI::IsMember({"dis", "ais", "both", "auto"}))
+      ->capture_default_str();
   cmd->add_flag("--float", args.use_float, "Run the estimator in float32, as the firmware does");
   return cmd;
 }
@@ -103,9 +121,6 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                                          "(-serial unix:LINK,server=on,wait=off -serial unix:PLANT,server=on,wait=off)")
                          ->expected(2);
   fw_opt->excludes(attach_opt);
-  cmd->callback([&] {
-    if (args.firmware.empty() && args.attach.empty()) throw CLI::RequiredError("--firmware or --attach");
-  });
   auto* scenario = cmd->add_option("--scenario", args.scenario,
                                    "Built-in plant played by the host and design sent to the firmware (lashid "
                                    "scenarios); --config and --plant replace either part");
@@ -117,7 +132,9 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                 "Send the config's design without checking it on the host first: the firmware's own check answers "
                 "(for testing it; a refused design runs nothing)")
       ->needs(config);
+  // One callback per subcommand (a second call of callback() replaces the first).
   cmd->callback([&args] {
+    if (args.firmware.empty() && args.attach.empty()) throw CLI::RequiredError("--firmware or --attach");
     if (args.config.empty() && args.scenario.empty()) throw CLI::RequiredError("--scenario or --config");
     if (args.plant.empty() && args.scenario.empty()) throw CLI::RequiredError("--scenario or --plant");
   });
@@ -132,7 +149,7 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                   "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3), netduinoplus2 (STM32F405)")
       ->capture_default_str();
   cmd->add_option("--qemu", args.qemu, "QEMU executable")->capture_default_str();
-  cmd->add_option("--timeout", args.timeout, "Wall-clock limit in seconds")->check(CLI::PositiveNumber)
+  cmd->add_option("--timeout", args.timeout, "Wall-clock limit in seconds")->check(kFinite & CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--corrupt-every", args.corrupt_every,
                       "Fault injection: damage every k-th measurement frame (the firmware must detect it)")
@@ -140,7 +157,7 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   cmd->add_option("--fault-rate", args.fault_rate,
                   "Fault injection: drop, garble or duplicate each byte on both UARTs, both ways, with this "
                   "probability (checked, re-sent; a link that is too bad ends the run with a named failure)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(kFinite & CLI::Range(0.0, 1.0));
   cmd->add_option("--fault-seed", args.fault_seed, "Seed of --fault-rate's draws")->check(kNonNegativeSeed)
       ->capture_default_str();
   cmd->add_option("--expect-estimates", args.expect_estimates,
@@ -149,10 +166,13 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
       ->check(CLI::ExistingFile);
   cmd->add_flag("--compare-host", args.compare_host,
                     "Also run the same firmware on the in-process host board and require equal estimates");
-  cmd->add_option("--tolerance", args.tolerance, "Relative tolerance of --compare-host")->capture_default_str();
+  cmd->add_option("--tolerance", args.tolerance, "Relative tolerance of --compare-host")
+      ->check(kFinite & CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--ticks-to-instructions", args.ticks_to_instructions,
                       "Convert the board's cycle counts to instructions (QEMU -icount shift=0, SysTick at 25 MHz: 40; "
-                      "at 168 MHz, netduinoplus2: 5.952381)");
+                      "at 168 MHz, netduinoplus2: 5.952381)")
+      ->check(kFinite & CLI::NonNegativeNumber);
   cmd->add_flag("--icount", args.icount,
                     "Run QEMU with -icount shift=0 (deterministic cycle counts; much slower exchanges)");
   cmd->add_option("--json", args.json_out, "Write the results as JSON");
@@ -183,7 +203,8 @@ CLI::App* add_diagnose(CLI::App& app, DiagnoseArgs& args) {
 CLI::App* add_hidden_effect(CLI::App& app, HiddenEffectArgs& args) {
   auto* cmd = app.add_subcommand("hidden-effect", "Generate a random plant's recording with a hidden effect");
   cmd->add_option("--cause", args.cause,
-                  "none, input_lag, dead_time, sensor_drift, colored_noise, operator_type, or two joined by '+'")
+                  "none, input_lag, dead_time, sensor_drift, colored_noise, operator_type, or several joined by '+' "
+                  "(input_lag+sensor_drift; the pairs of docs/diagnose.md are the ones measured)")
       ->required();
   cmd->add_option("--borders", args.borders, "Borders between the levels: linear or curved")
       ->check(CLI::IsMember({"linear", "curved"}))
@@ -235,13 +256,13 @@ CLI::App* add_operator_fit(CLI::App& app, OperatorFitArgs& args) {
       ->check(CLI::Range(2, 10000))->capture_default_str();
   cmd->add_option("--deadband", args.deadband,
                         "Reversal detection: v must retreat this far from its extreme (units of v)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(kFinite & CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--reversal-window", args.reversal_window,
                         "Error analysis: 'reversal' = travel since the last reversal below this")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(kFinite & CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--engagement-window", args.engagement_window,
                         "Error analysis: 'engagement' = travel below this (and above the reversal window)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(kFinite & CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--no-stiffness", args.no_stiffness, "Extended model without the parallel stiffness k");
   cmd->add_option("--tension", args.tension,
                   "Band tension of a file, FILE=LB (FILE as given or its base name), for names without "
@@ -262,8 +283,8 @@ CLI::App* add_design(CLI::App& app, DesignArgs& args) {
   const std::vector<CLI::Option*> design_options = {
       cmd->add_option("--n", args.n, "Order n of the linear subsystem"),
       cmd->add_option("--m", args.m, "Points m identified per border (levels of V_d and of V_a)"),
-      cmd->add_option("--v-min", args.v_min, "v_min of the working interval"),
-      cmd->add_option("--v-max", args.v_max, "v_max of the working interval"),
+      cmd->add_option("--v-min", args.v_min, "v_min of the working interval")->check(kFinite),
+      cmd->add_option("--v-max", args.v_max, "v_max of the working interval")->check(kFinite),
       cmd->add_option("--operator", args.op, "switch or backlash")->check(CLI::IsMember({"switch", "backlash"})),
       cmd->add_option("--levels", args.levels,
                       "K evenly spaced levels from v_min to v_max, both included (K >= m + 1; default m + 1): V_d "
@@ -335,6 +356,11 @@ int main(int argc, char** argv) {
       refuse_overwriting_own_files(*subcommand);
       return run();
     }
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    fmt::print(stderr, "lashid: error: out of memory: the input asks for more than this machine holds (a config's "
+                       "lengths, e.g. val_length, or a recording's size)\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());

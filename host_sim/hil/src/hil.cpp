@@ -3,9 +3,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -27,6 +29,20 @@ std::vector<std::string> qemu_command_line(const QemuCommand& command) {
   return args;
 }
 
+namespace {
+
+// The ELF magic and e_machine = EM_ARM (40), little-endian, at byte 18 of the header.
+bool is_arm_elf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::array<unsigned char, 20> header{};
+  if (!in.read(reinterpret_cast<char*>(header.data()), static_cast<std::streamsize>(header.size()))) return false;
+  constexpr int kEmArm = 40;
+  return header[0] == 0x7f && header[1] == 'E' && header[2] == 'L' && header[3] == 'F' &&
+         (header[18] | (header[19] << 8)) == kEmArm;
+}
+
+}  // namespace
+
 HilResult run_hil(const HilOptions& options) {
   const bool attach = !options.attach_link.empty() || !options.attach_plant.empty();
   if (attach && (options.attach_link.empty() || options.attach_plant.empty())) {
@@ -34,6 +50,12 @@ HilResult run_hil(const HilOptions& options) {
   }
   if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
+  }
+  if (!attach && !is_arm_elf(options.firmware)) {
+    // QEMU would boot any bytes and stop in a lockup with a register dump.
+    throw std::runtime_error("hil: firmware '" + options.firmware +
+                             "' is not an ARM ELF image (a cross preset builds one: "
+                             "build/cm4f-release/firmware/lashid_fw.elf)");
   }
   // The design sent (options.design or the scenario's), the plant played (the scenario's or a plant file's) and
   // the recording, opened before QEMU starts (played_run.hpp).

@@ -23,7 +23,7 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-std::vector<std::string_view> split_fields(std::string_view line) {
+std::vector<std::string_view> split_trimmed_fields(std::string_view line) {
   std::vector<std::string_view> fields;
   std::size_t start = 0;
   while (true) {
@@ -61,7 +61,7 @@ DamperRecord parse_damper_csv(std::string_view text, std::string_view source_nam
     ++line_number;
     const std::string_view line = trim(raw);
     if (line.empty()) continue;
-    const std::vector<std::string_view> fields = split_fields(line);
+    const std::vector<std::string_view> fields = split_trimmed_fields(line);
     if (!have_header) {
       have_header = true;
       field_count = fields.size();

@@ -12,11 +12,9 @@ namespace {
 
 constexpr std::array<std::string_view, kPhaseCount> kPhaseNames = {"step_d", "dis", "step_a", "ais", "val"};
 
-std::size_t index_of(Phase phase) { return static_cast<std::size_t>(phase); }
-
 }  // namespace
 
-std::string_view to_string(Phase phase) { return kPhaseNames.at(index_of(phase)); }
+std::string_view to_string(Phase phase) { return kPhaseNames.at(phase_index(phase)); }
 
 std::optional<Phase> parse_phase(std::string_view name) {
   for (const Phase phase : kAllPhases) {
@@ -33,12 +31,12 @@ void Recording::append(Phase phase, double v, double y) {
     }
     order_.push_back(phase);
   }
-  samples_by_phase_[index_of(phase)].push_back(Sample{v, y});
+  samples_by_phase_[phase_index(phase)].push_back(Sample{v, y});
 }
 
-bool Recording::has(Phase phase) const { return !samples_by_phase_[index_of(phase)].empty(); }
+bool Recording::has(Phase phase) const { return !samples_by_phase_[phase_index(phase)].empty(); }
 
-std::span<const Sample> Recording::phase(Phase phase) const { return samples_by_phase_[index_of(phase)]; }
+std::span<const Sample> Recording::phase(Phase phase) const { return samples_by_phase_[phase_index(phase)]; }
 
 const std::vector<Phase>& Recording::order() const { return order_; }
 

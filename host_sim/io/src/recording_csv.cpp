@@ -27,8 +27,6 @@ constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
 // Long garbage fields are cut in messages so one bad line does not flood the terminal.
 constexpr std::size_t kMaxQuotedChars = 40;
 
-std::size_t index_of(Phase phase) { return static_cast<std::size_t>(phase); }
-
 std::string quoted(std::string_view text) {
   if (text.size() <= kMaxQuotedChars) return fmt::format("'{}'", text);
   return fmt::format("'{}...'", text.substr(0, kMaxQuotedChars));
@@ -115,7 +113,7 @@ class RecordingCsvParser {
     if (!continues_current_block && recording_.has(*phase)) {
       fail(line_number, fmt::format("phase '{}' appears again after its block ended at line {}; each phase must be "
                                     "one contiguous block",
-                                    to_string(*phase), last_line_of_phase_[index_of(*phase)]));
+                                    to_string(*phase), last_line_of_phase_[phase_index(*phase)]));
     }
     const std::size_t expected_t = recording_.phase(*phase).size();
     if (t != expected_t) {
@@ -124,7 +122,7 @@ class RecordingCsvParser {
                                     expected_t, t, to_string(*phase)));
     }
     recording_.append(*phase, v, y);
-    last_line_of_phase_[index_of(*phase)] = line_number;
+    last_line_of_phase_[phase_index(*phase)] = line_number;
   }
 
   std::size_t parse_time(std::string_view field, std::size_t line_number) const {
@@ -205,14 +203,14 @@ void RecordingCsvStream::comment(std::string_view text) {
 }
 
 void RecordingCsvStream::append(Phase phase, double v, double y) {
-  const std::size_t index = index_of(phase);
+  const std::size_t index = phase_index(phase);
   if (current_ != phase) {
     if (closed_[index]) {
       throw std::invalid_argument(fmt::format("recording: phase '{}' appended again after its block ended",
                                               to_string(phase)));
     }
     if (current_) {
-      closed_[index_of(*current_)] = true;
+      closed_[phase_index(*current_)] = true;
       flush();  // a phase change: what was measured so far is in the file
     }
     current_ = phase;

@@ -5,21 +5,28 @@
 namespace lashid::sim {
 
 nlohmann::json to_json(const SchemeResult& r) {
-  return {{"a", r.a},
-          {"b", r.b},
-          {"F", r.F},
-          {"theta", r.theta},
-          {"c", r.c},
-          {"F_centered", r.F_centered},
-          {"theta_std_error", r.theta_std_error},
-          {"ybar0", r.ybar0},
-          {"held_output", r.held_output},
-          {"noise_variance", r.noise_variance},
-          {"rcond", r.rcond},
-          {"rows", r.rows},
-          {"status", est::to_string(r.status)}};
+  nlohmann::json out = {{"a", r.a},
+                        {"b", r.b},
+                        {"F", r.F},
+                        {"theta", r.theta},
+                        {"c", r.c},
+                        {"F_centered", r.F_centered},
+                        {"theta_std_error", r.theta_std_error},
+                        {"ybar0", r.ybar0},
+                        {"held_output", r.held_output},
+                        {"noise_variance", r.noise_variance},
+                        {"rcond", r.rcond},
+                        {"rows", r.rows},
+                        {"status", est::to_string(r.status)}};
+  // Without a solution the estimates are null, not the zeros they were initialised to: a reader that skips
+  // "status" must not take them for values. The step experiment's mean (ybar0) does not need the solution.
+  if (r.status != est::Status::kOk) {
+    for (const char* key : {"a", "b", "F", "theta", "c", "F_centered", "theta_std_error", "noise_variance"}) {
+      out[key] = nullptr;
+    }
+  }
+  return out;
 }
-
 
 nlohmann::json to_json(const JointModel& m) {
   return {{"operator", to_string(m.structure.op)},

@@ -96,7 +96,24 @@ std::string script_for(const Figure& figure, const fs::path& dir, const fs::path
   return s;
 }
 
+int exit_code(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+sim::DataError gnuplot_not_found(const std::string& out, const std::string& gnuplot_exe) {
+  return sim::DataError(out, fmt::format("cannot plot: '{}' not found (install gnuplot-nox)", gnuplot_exe));
+}
+
 }  // namespace
+
+void check_can_plot(const fs::path& out, const std::string& gnuplot_exe) {
+  sim::check_can_write(out);
+  // The shell answers 127 when it cannot find or run the command.
+  if (exit_code(fmt::format("{} --version >/dev/null 2>&1 </dev/null", shell_word(gnuplot_exe))) == 127) {
+    throw gnuplot_not_found(out.string(), gnuplot_exe);
+  }
+}
 
 void write_png(const Figure& figure, const fs::path& out, const std::string& gnuplot_exe) {
   if (figure.panels.empty()) throw std::invalid_argument("plot: a figure needs at least one panel");
@@ -122,11 +139,8 @@ void write_png(const Figure& figure, const fs::path& out, const std::string& gnu
   }
   const std::string command = fmt::format("{} {} >{} 2>&1 </dev/null", shell_word(gnuplot_exe),
                                           shell_word(script.string()), shell_word(log.string()));
-  const int status = std::system(command.c_str());
-  const int code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (code == 127) {
-    throw sim::DataError(name, fmt::format("cannot plot: '{}' not found (install gnuplot-nox)", gnuplot_exe));
-  }
+  const int code = exit_code(command);
+  if (code == 127) throw gnuplot_not_found(name, gnuplot_exe);
   if (code != 0 || !fs::is_regular_file(png)) {
     std::string message = sim::read_file_text(log);
     if (message.size() > 2000) message.resize(2000);

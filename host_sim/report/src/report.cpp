@@ -26,6 +26,12 @@ void print_scheme_result(const ExperimentConfig& config, const SchemeResult& r) 
   fmt::print("{} ({} border): n = {}, m = {}; {} step + {} pulse samples, {} regression rows; status: {}\n",
              dis ? "DIS" : "AIS", dis ? "descendent" : "ascendent", config.n, config.m, r.step_samples,
              r.pulse_samples, r.rows, est::to_string(r.status));
+  if (r.status != est::Status::kOk) {
+    // No solution, so no estimates (their zeros are initial values, not results).
+    fmt::print("  no estimates: {} (reciprocal condition of the reduced normal matrix {:.3g})\n",
+               est::to_string(r.status), r.rcond);
+    return;
+  }
   fmt::print("  residual variance {:.4g}, reciprocal condition of the reduced normal matrix {:.3g}\n",
              r.noise_variance, r.rcond);
   fmt::print("  {:<14}{:>12}{:>12}{:>12}\n", "parameter", "estimate", "std.err", config.truth ? "truth" : "");

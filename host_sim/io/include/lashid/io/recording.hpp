@@ -25,6 +25,8 @@ enum class Phase { kStepD, kDis, kStepA, kAis, kVal };
 inline constexpr std::size_t kPhaseCount = 5;
 inline constexpr std::array<Phase, kPhaseCount> kAllPhases = {Phase::kStepD, Phase::kDis, Phase::kStepA, Phase::kAis,
                                                               Phase::kVal};
+// Position of a phase in kAllPhases: the index of per-phase arrays.
+constexpr std::size_t phase_index(Phase phase) { return static_cast<std::size_t>(phase); }
 
 // The name used in CSV files: "step_d", "dis", "step_a", "ais", "val".
 std::string_view to_string(Phase phase);

@@ -36,4 +36,8 @@ struct Figure {
 /// < 1 or a series whose x and y differ in length.
 void write_png(const Figure& figure, const std::filesystem::path& out, const std::string& gnuplot_exe = "gnuplot");
 
+/// Before any work whose result is to be plotted: throws the DataError write_png would (naming `out`) if `out`
+/// cannot be written or `gnuplot_exe` cannot be run.
+void check_can_plot(const std::filesystem::path& out, const std::string& gnuplot_exe = "gnuplot");
+
 }  // namespace lashid::report::plot

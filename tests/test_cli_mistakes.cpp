@@ -1,0 +1,175 @@
+// The mistakes a new user makes on the command line (found by trying the tool as one, session 14): each gets a
+// clear error naming the option or file, a non-zero exit and no file written, or, where the command runs, a
+// result that cannot be mistaken for another. Each check failed before its fix.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace lashid::test;
+
+class CliMistakes : public LashidExeTest {
+ protected:
+  void simulate(const std::string& csv, const std::string& config) const {
+    const Outcome r =
+        run({"simulate", "--scenario", "dis_paper", "--seed", "1", "--out", csv, "--config-out", config});
+    ASSERT_EQ(r.exit_code, 0) << r;
+  }
+
+  // Copies the recording keeping only the rows whose phase is one of `phases` (and the comments and header).
+  void keep_phases(const std::string& from, const std::string& to, const std::vector<std::string>& phases) const {
+    std::istringstream in(slurp(work_ / from));
+    std::ofstream out(work_ / to);
+    for (std::string line; std::getline(in, line);) {
+      const std::string phase = line.substr(0, line.find(','));
+      const bool data = line.find(',') != std::string::npos && phase != "phase";
+      if (!data || std::find(phases.begin(), phases.end(), phase) != phases.end()) out << line << "\n";
+    }
+  }
+};
+
+// CLI11's range checks compare, and NaN compares false with everything: "nan" passed them. Infinity too where
+// only the sign was checked.
+TEST_F(CliMistakes, ANumberOptionThatIsNotFiniteIsRefusedAndNothingIsWritten) {
+  const std::string damper = std::string(LASHID_DAMPER_DATA) + "/char_1Hz30lbtension1amplitude.csv";
+  const std::string damper2 = std::string(LASHID_DAMPER_DATA) + "/char_0.5Hz30lbtension1amplitude.csv";
+  const std::vector<std::vector<std::string>> commands = {
+      {"simulate", "--scenario", "dis_paper", "--noise-variance", "nan", "--out", "s.csv"},
+      {"simulate", "--scenario", "dis_paper", "--noise-variance", "inf", "--out", "s.csv"},
+      {"simulate", "--scenario", "dis_paper", "--input-lag", "nan", "--out", "s.csv"},
+      {"design", "--n", "1", "--m", "2", "--v-min", "nan", "--v-max", "1", "--operator", "switch", "--out", "d.json"},
+      {"design", "--n", "1", "--m", "2", "--v-min", "-1", "--v-max", "-inf", "--operator", "switch", "--out",
+       "d.json"},
+      {"operator-fit", "--train", damper, "--test", damper2, "--deadband", "nan", "--json", "o.json"},
+      {"operator-fit", "--train", damper, "--test", damper2, "--reversal-window", "nan", "--json", "o.json"},
+  };
+  for (const auto& command : commands) {
+    std::string text;
+    for (const auto& word : command) text += word + " ";
+    const Outcome r = run(command);
+    EXPECT_NE(r.exit_code, 0) << text << "\n" << r;
+    EXPECT_TRUE(Contains(r.err, "must be a finite number")) << r;
+    EXPECT_TRUE(files_below(work_).empty()) << r;
+  }
+}
+
+// Levels between -1e308 and 1e308: the exact formula (a (K-1-i) + b i) / (K-1) overflows to -inf; the levels are
+// then those of the convex combination, -1e308 + 2e308 i / 3 for K = 4: -1e308, -1e308/3, 1e308/3 (V_d).
+TEST_F(CliMistakes, LevelsNearTheEndOfTheDoubleRangeAreComputedWithoutOverflow) {
+  const Outcome r = run({"design", "--n", "1", "--m", "3", "--v-min", "-1e308", "--v-max", "1e308", "--operator",
+                         "switch", "--out", "d.json"});
+  // The firmware works in float32, where these levels do not exist: refused, by its rule, naming the file.
+  EXPECT_NE(r.exit_code, 0) << r;
+  EXPECT_FALSE(Contains(r.err, "got null")) << r;
+  EXPECT_TRUE(Contains(r.err, "d.json: the firmware image could not run this design")) << r;
+  EXPECT_TRUE(files_below(work_).empty()) << r;
+}
+
+// With fewer than 100 runs there is no "first 100 runs" to report (it divided the hits among 10 runs by 100).
+TEST_F(CliMistakes, ReproduceWithFewerThanAHundredRunsReportsNoFirstHundred) {
+  const Outcome r = run({"reproduce", "--runs", "10"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.out, "over 10 runs")) << r;
+  EXPECT_FALSE(Contains(r.out, "first 100 runs")) << r;
+}
+
+// A test file that is also a training file would be scored in-sample and printed as a test fit.
+TEST_F(CliMistakes, OperatorFitRefusesATestFileThatIsAlsoTrainedOn) {
+  const std::string damper = std::string(LASHID_DAMPER_DATA) + "/char_1Hz30lbtension1amplitude.csv";
+  const std::string other = std::string(LASHID_DAMPER_DATA) + "/char_0.5Hz30lbtension1amplitude.csv";
+  const Outcome r = run({"operator-fit", "--train", damper, other, "--test", damper, "--json", "o.json"});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(Contains(r.err, "is also a --train file")) << r;
+  EXPECT_TRUE(files_below(work_).empty()) << r;
+  // A gnuplot that cannot run is found before the fit, not after it: no JSON either.
+  const Outcome plot = run({"operator-fit", "--train", damper, "--test", other, "--json", "o.json", "--plot",
+                            "o.png", "--gnuplot", "/nonexistent/gnuplot"});
+  EXPECT_EQ(plot.exit_code, 1) << plot;
+  EXPECT_TRUE(Contains(plot.err, "o.png: cannot plot: '/nonexistent/gnuplot' not found")) << plot;
+  EXPECT_FALSE(Contains(plot.out, "Nominal operators")) << plot;
+  EXPECT_TRUE(files_below(work_).empty()) << plot;
+}
+
+// "both" asks for both schemes: a recording without the AIS phases is an error, as with --scheme ais; "auto" (the
+// default) identifies what the data holds.
+TEST_F(CliMistakes, IdentifyBothNeedsBothSchemesPhasesAndAutoTakesWhatThereIs) {
+  simulate("rec.csv", "cfg.json");
+  keep_phases("rec.csv", "dis_only.csv", {"step_d", "dis"});
+  const Outcome both = run({"identify", "--config", "cfg.json", "--data", "dis_only.csv", "--scheme", "both"});
+  EXPECT_EQ(both.exit_code, 1) << both;
+  EXPECT_TRUE(Contains(both.err, "step_a")) << both;
+  const Outcome automatic = run({"identify", "--config", "cfg.json", "--data", "dis_only.csv", "--json", "e.json"});
+  ASSERT_EQ(automatic.exit_code, 0) << automatic;
+  const json e = json::parse(slurp(work_ / "e.json"));
+  EXPECT_TRUE(e.contains("dis"));
+  EXPECT_FALSE(e.contains("ais"));
+  // The output path is checked before the work, not after the estimates are printed.
+  const Outcome no_dir = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "nodir/e.json"});
+  EXPECT_EQ(no_dir.exit_code, 1) << no_dir;
+  EXPECT_FALSE(Contains(no_dir.out, "DIS")) << no_dir;
+}
+
+// A scheme without a solution: no estimates printed, and null (not the zeros they start at) in the JSON. One
+// output of 1e300 makes the normal matrix too ill-conditioned to solve.
+TEST_F(CliMistakes, AFailedSchemeHasNullEstimatesNotZeros) {
+  simulate("rec.csv", "cfg.json");
+  std::istringstream in(slurp(work_ / "rec.csv"));
+  std::ofstream out(work_ / "outlier.csv");
+  bool edited = false;
+  for (std::string line; std::getline(in, line);) {
+    if (!edited && line.starts_with("dis,")) {
+      line = line.substr(0, line.rfind(',')) + ",1e300";
+      edited = true;
+    }
+    out << line << "\n";
+  }
+  out.close();
+  const Outcome r =
+      run({"identify", "--config", "cfg.json", "--data", "outlier.csv", "--scheme", "dis", "--json", "e.json"});
+  EXPECT_EQ(r.exit_code, 2) << r;
+  EXPECT_TRUE(Contains(r.out, "no estimates: ")) << r;
+  EXPECT_FALSE(Contains(r.out, "a1 ")) << r;
+  const json e = json::parse(slurp(work_ / "e.json"));
+  EXPECT_NE(e.at("dis").at("status").get<std::string>(), "ok");
+  EXPECT_TRUE(e.at("dis").at("a").is_null());
+  EXPECT_TRUE(e.at("dis").at("theta").is_null());
+  EXPECT_TRUE(e.at("dis").at("ybar0").is_number());  // the step experiment's mean needs no solution
+}
+
+// hil: one of --firmware and --attach is required (a second callback had replaced the check), and a firmware that
+// is not an ARM ELF image is refused before QEMU boots it into a lockup.
+TEST_F(CliMistakes, HilNamesAMissingOrWrongFirmware) {
+  const Outcome none = run({"hil", "--scenario", "dis_paper"});
+  EXPECT_NE(none.exit_code, 0) << none;
+  EXPECT_TRUE(Contains(none.err, "--firmware or --attach")) << none;
+  std::ofstream(work_ / "text.elf") << "not an image\n";
+  const Outcome text = run({"hil", "--scenario", "dis_paper", "--firmware", "text.elf", "--timeout", "5"});
+  EXPECT_EQ(text.exit_code, 1) << text;
+  EXPECT_TRUE(Contains(text.err, "'text.elf' is not an ARM ELF image")) << text;
+  EXPECT_FALSE(Contains(text.out + text.err, "qemu")) << text;
+}
+
+// The generator's rules on --cause are said in terms of the option.
+TEST_F(CliMistakes, HiddenEffectNamesTheCauseListThatIsWrong) {
+  const Outcome repeated = run({"hidden-effect", "--cause", "dead_time+dead_time", "--out", "r.csv", "--config-out",
+                                "c.json"});
+  EXPECT_EQ(repeated.exit_code, 1) << repeated;
+  EXPECT_TRUE(Contains(repeated.err, "lashid: error: --cause dead_time+dead_time: a cause is repeated")) << repeated;
+  const Outcome unknown = run({"hidden-effect", "--cause", "dead_time+backlash", "--out", "r.csv", "--config-out",
+                               "c.json"});
+  EXPECT_EQ(unknown.exit_code, 1) << unknown;
+  EXPECT_TRUE(Contains(unknown.err, "--cause dead_time+backlash: unknown cause 'backlash' (none, input_lag")) << unknown;
+  EXPECT_TRUE(files_below(work_).empty());
+}
+
+}  // namespace
