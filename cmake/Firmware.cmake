@@ -13,6 +13,8 @@
 #   <target>_is_heap_free   fails if the linked ELF defines or references any allocator symbol (malloc, free, calloc,
 #                           realloc, their _r variants, _sbrk, _sbrk_r, operator new/delete): the proof is the link
 #   <target>_fits_its_budget  fails if flash exceeds MAX_FLASH or RAM (static + the reserved stack) exceeds MAX_RAM
+#   <target>_has_no_semihosting_trap  with LASHID_SEMIHOSTING OFF (a board without a debugger), instead of the run in
+#                           QEMU: fails if the image holds a `bkpt` (the semihosting trap, which faults there)
 #
 # This file is also the script those two steps run (cmake -P with LASHID_FIRMWARE_ACTION = size | heap-check).
 
@@ -86,6 +88,7 @@ endif()
 include_guard(GLOBAL)
 
 set(_lashid_firmware_script "${CMAKE_CURRENT_LIST_FILE}")
+set(_lashid_no_trap_script "${CMAKE_CURRENT_LIST_DIR}/NoSemihostingTrap.cmake")
 
 function(lashid_add_firmware target)
   cmake_parse_arguments(PARSE_ARGV 1 arg "NO_RUN_TEST" "TIMEOUT;STACK_SIZE;MAX_FLASH;MAX_RAM" "SOURCES;LIBS")
@@ -126,9 +129,16 @@ function(lashid_add_firmware target)
     VERBATIM)
 
   # The target's CROSSCOMPILING_EMULATOR (qemu-system-arm ... -kernel) runs it; CTest appends the ELF's path.
-  if(NOT arg_NO_RUN_TEST)
+  if(NOT arg_NO_RUN_TEST AND LASHID_SEMIHOSTING)
     add_test(NAME ${target}_runs_in_qemu COMMAND ${target})
     set_tests_properties(${target}_runs_in_qemu PROPERTIES TIMEOUT ${arg_TIMEOUT} LABELS "firmware;qemu")
+  endif()
+  if(NOT LASHID_SEMIHOSTING)
+    # Built for a board without a debugger: no semihosting trap anywhere in the image.
+    add_test(NAME ${target}_has_no_semihosting_trap
+             COMMAND ${CMAKE_COMMAND} -DOBJDUMP=${CMAKE_OBJDUMP} -DFILES=$<TARGET_FILE:${target}>
+                     -P ${_lashid_no_trap_script})
+    set_tests_properties(${target}_has_no_semihosting_trap PROPERTIES TIMEOUT 60 LABELS "firmware")
   endif()
   add_test(NAME ${target}_is_heap_free
            COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=heap-check -DNM=${CMAKE_NM}

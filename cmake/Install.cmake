@@ -38,7 +38,8 @@ install(FILES "${PROJECT_BINARY_DIR}/lashidConfig.cmake" "${PROJECT_BINARY_DIR}/
 if(TARGET lashid)
   install(TARGETS lashid RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 endif()
-install(FILES "${PROJECT_SOURCE_DIR}/README.md" "${PROJECT_SOURCE_DIR}/docs/data-format.md"
-              "${PROJECT_SOURCE_DIR}/docs/firmware.md" "${PROJECT_SOURCE_DIR}/docs/package.md"
-              "${PROJECT_SOURCE_DIR}/docs/estimator.md" "${PROJECT_SOURCE_DIR}/docs/paper-notes.md"
-        DESTINATION "${CMAKE_INSTALL_DOCDIR}")
+# The README and docs/ laid out as in the source tree, so that their links to each other hold (the scripts that
+# regenerate the damper figure stay behind: they run from a source tree).
+install(FILES "${PROJECT_SOURCE_DIR}/README.md" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/docs/" DESTINATION "${CMAKE_INSTALL_DOCDIR}/docs"
+        FILES_MATCHING PATTERN "*.md" PATTERN "*.png" PATTERN "*.json")

@@ -166,6 +166,31 @@ TEST(FirmwareOnHostBoard, CountsTheSamplesTheEstimatorRejects) {
   EXPECT_EQ(reports_of(board).cost.bad_sensor_values, 3u);
 }
 
+// A link whose driver keeps reporting an error (a sticky overrun flag that is never cleared): the firmware counts
+// the errors and still runs every sample (it used to loop in its poll of the link forever).
+class StuckLinkBoard : public sim::ScenarioBoard {
+ public:
+  explicit StuckLinkBoard(sim::ScenarioBoard board) : sim::ScenarioBoard(std::move(board)) {}
+  hal::Status link_read(std::uint8_t&) { return hal::Status::kLinkError; }
+};
+
+TEST(FirmwareOnHostBoard, ALinkThatKeepsFailingCostsLinkErrorsNotTheRun) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  StuckLinkBoard board(sim::make_scenario_board(s, 7));
+  static_assert(hal::Board<StuckLinkBoard>);
+  fw::IdentificationSequencer<StuckLinkBoard> firmware(board, fw::kAisPaperRun);
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);
+  // Every sample of the run on a working link.
+  sim::ScenarioBoard working = sim::make_scenario_board(s, 7);
+  fw::IdentificationSequencer<sim::ScenarioBoard> reference(working, fw::kAisPaperRun);
+  ASSERT_EQ(reference.run(), fw::RunStatus::kOk);
+  EXPECT_EQ(board.exchanges().size(), working.exchanges().size());
+  // One budget of errors per poll, at least one poll per sample.
+  EXPECT_GE(firmware.cost().link_errors,
+            static_cast<std::uint32_t>(board.exchanges().size()) *
+                static_cast<std::uint32_t>(fw::IdentificationSequencer<StuckLinkBoard>::kPollBudget));
+}
+
 TEST(FirmwareMessages, RecordSizesAndNames) {
   // The size the sequencer's static_assert checks is the size encode() writes.
   fw::EstimateRecord e;

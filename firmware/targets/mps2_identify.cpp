@@ -26,6 +26,7 @@ class Mps2IdentificationBoard
 static_assert(hal::Board<Mps2IdentificationBoard>);
 static_assert(hal::ReportsStackUse<Mps2IdentificationBoard>);
 static_assert(hal::ReportsExchangeErrors<Mps2IdentificationBoard>);
+static_assert(hal::KnowsCycleRate<Mps2IdentificationBoard>);  // else the reports are not held for a host that lost one
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Mps2IdentificationBoard g_board{kUart1Base};

@@ -25,6 +25,7 @@ class Stm32f4IdentificationBoard
 static_assert(hal::Board<Stm32f4IdentificationBoard>);
 static_assert(hal::ReportsStackUse<Stm32f4IdentificationBoard>);
 static_assert(hal::ReportsExchangeErrors<Stm32f4IdentificationBoard>);
+static_assert(hal::KnowsCycleRate<Stm32f4IdentificationBoard>);  // else the reports are not held for a host that lost one
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Stm32f4IdentificationBoard g_board{stm32f4::kUsart2};

@@ -1,7 +1,40 @@
 // Minimal ARM semihosting (v2.0): console output and exit. No newlib rdimon: that library brings file I/O and
 // malloc. Operation numbers and the AArch32 calling convention (operation in r0, argument in r1, result in r0,
 // trap `bkpt 0xAB` on M-profile) are from Arm's "Semihosting for AArch32 and AArch64" specification.
+//
+// LASHID_SEMIHOSTING=0 (CMake option LASHID_SEMIHOSTING OFF) is for a board without a debugger: there the first
+// `bkpt` would fault (and the fault handler's own `bkpt` lock the core up). The console is then silent and exit()
+// parks the core, its code in lashid_exit_code for a debugger attached later.
 #include "lashid/hal/cortex_m.hpp"
+
+#ifndef LASHID_SEMIHOSTING
+#error "LASHID_SEMIHOSTING must be 0 or 1 (hal/cortex_m/CMakeLists.txt)"
+#endif
+
+#if !LASHID_SEMIHOSTING
+
+extern "C" {
+// The last exit code, for a debugger (no host to receive it).
+volatile int lashid_exit_code = -1;
+}
+
+namespace lashid::hal::cortex_m::semihosting {
+
+void write(const char*) {}
+
+void write_char(char) {}
+
+void exit(int code) {
+  lashid_exit_code = code;
+  __asm__ volatile("cpsid i" ::: "memory");
+  for (;;) {
+    __asm__ volatile("wfi" ::: "memory");
+  }
+}
+
+}  // namespace lashid::hal::cortex_m::semihosting
+
+#else
 
 namespace lashid::hal::cortex_m::semihosting {
 
@@ -48,3 +81,5 @@ void exit(int code) {
 }
 
 }  // namespace lashid::hal::cortex_m::semihosting
+
+#endif  // LASHID_SEMIHOSTING

@@ -37,6 +37,10 @@ class IdentificationSequencer {
   /// With kStartHoldReports: how long the reports are held after a run for a host that lost one (each kReport
   /// starts the wait again). Only on boards that know their cycle rate (hal::KnowsCycleRate); others do not hold.
   static constexpr std::uint32_t kReportHoldSeconds = 2;
+  /// Bytes or link errors handled per poll of the link at most (two whole frames' worth; the rest waits for the
+  /// next poll): a board whose link_read kept failing (a sticky overrun flag) would otherwise hold the firmware in
+  /// the poll forever, with no sample taken and nothing reported.
+  static constexpr int kPollBudget = 2 * static_cast<int>(hal::link::kMaxFrame);
   using Identifier = est::SchemeIdentifier<float, N, M>;
   using Estimate = typename Identifier::Estimate;
   using Design = est::ExperimentDesign<float, M>;
@@ -318,7 +322,7 @@ class IdentificationSequencer {
 
   void poll_link() {
     std::uint8_t byte = 0;
-    for (;;) {
+    for (int budget = kPollBudget; budget > 0; --budget) {
       const hal::Status s = board_.link_read(byte);
       if (s == hal::Status::kWouldBlock) return;
       if (s != hal::Status::kOk) {

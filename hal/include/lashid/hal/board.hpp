@@ -19,7 +19,10 @@ concept Board = requires(B& board, const B& const_board, float v, float& y, std:
   { board.actuate(v) } -> std::same_as<Status>;
 
   /// Measures the output y(t) of the current sample (after actuate()).
-  /// kOk; kSensorFault (no valid value: y is left unchanged); kTimeout; kStopped.
+  /// kOk; kOutOfRange (a value, but not usable: non-finite or outside the sensor's range; the sequencer counts the
+  /// sample as bad, estimates without it and goes on); kSensorFault (no measurement for this sample: the run ends
+  /// with a sensor fault, so a glitch that still gives a sample must be kOutOfRange); kTimeout (ends the run like
+  /// kSensorFault); kStopped (the run ends, stopped).
   { board.measure(y) } -> std::same_as<Status>;
 
   /// Sample clock: returns at the next sample instant.
@@ -29,7 +32,9 @@ concept Board = requires(B& board, const B& const_board, float v, float& y, std:
   /// Byte link for commands and reports: writes all `size` bytes. kOk; kLinkError; kTimeout.
   { board.link_write(data, size) } -> std::same_as<Status>;
 
-  /// Byte link, non-blocking read of one byte. kOk; kWouldBlock (none pending); kLinkError (overrun: bytes lost).
+  /// Byte link, non-blocking read of one byte. kOk; kWouldBlock (none pending); kLinkError (overrun: bytes lost),
+  /// reported once and cleared: the next call reads on (the firmware reads at most a bounded number of bytes or
+  /// errors per poll, so a sticky error costs link errors, not the sample clock).
   { board.link_read(byte) } -> std::same_as<Status>;
 
   /// Monotonic cycle/tick counter, wrapping at 2^32 (differences are valid across one wrap).

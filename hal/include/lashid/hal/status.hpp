@@ -10,8 +10,9 @@ enum class [[nodiscard]] Status : std::uint8_t {
   kWouldBlock,   ///< non-blocking read: nothing pending now
   kTimeout,      ///< nothing arrived within the time limit (or the sample tick was overrun)
   kLinkError,    ///< framing/overrun/checksum error on the byte link; the data was discarded
-  kOutOfRange,   ///< actuator command or sensor value outside the board's range; not applied / not used
-  kSensorFault,  ///< no valid measurement for this sample (non-finite value, exchange lost after retries)
+  kOutOfRange,   ///< actuator command outside the board's range (not applied), or a sensor value that is not usable
+                 ///< (outside its range, non-finite): the firmware counts the sample as bad and goes on
+  kSensorFault,  ///< no measurement exists for this sample (exchange lost after retries): the run ends
   kStopped,      ///< the peer asked to stop or closed the link
 };
 

@@ -38,11 +38,12 @@ class HostBoard {
     return Status::kOk;
   }
 
-  /// kSensorFault: no actuate() since the last measure() (no new sample exists), or the plant's y is not finite.
+  /// kSensorFault: no actuate() since the last measure() (no new sample exists). kOutOfRange: the plant's y is not
+  /// finite (y unchanged; the firmware counts the sample as bad and goes on, as with a remote plant's NaN).
   Status measure(float& y) {
     if (measured_) return Status::kSensorFault;
     measured_ = true;
-    if (!std::isfinite(y_)) return Status::kSensorFault;
+    if (!std::isfinite(y_)) return Status::kOutOfRange;
     y = y_;
     return Status::kOk;
   }
