@@ -119,6 +119,32 @@ TEST_F(CliMistakes, IdentifyBothNeedsBothSchemesPhasesAndAutoTakesWhatThereIs) {
   EXPECT_FALSE(Contains(no_dir.out, "DIS")) << no_dir;
 }
 
+// A recording cut short (its last phase 339 samples instead of the config's 2000) is identified, as a run stopped
+// early must be, but said: a note on stderr names the phase, its count and the config's key. A whole one says nothing.
+TEST_F(CliMistakes, ARecordingShorterThanItsConfigIsNoted) {
+  simulate("rec.csv", "cfg.json");
+  const json config = json::parse(slurp(work_ / "cfg.json"));
+  ASSERT_TRUE(config.contains("pulse_length_a")) << config.dump();
+  const int stated = config.at("pulse_length_a").get<int>();
+  const Outcome whole = run({"identify", "--config", "cfg.json", "--data", "rec.csv"});
+  ASSERT_EQ(whole.exit_code, 0) << whole;
+  EXPECT_FALSE(Contains(whole.err, "note:")) << whole;
+  std::istringstream in(slurp(work_ / "rec.csv"));
+  std::ofstream out(work_ / "cut.csv");
+  int ais = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.starts_with("ais,") && ++ais > 339) continue;
+    if (line.starts_with("val,")) continue;
+    out << line << "\n";
+  }
+  out.close();
+  const Outcome cut = run({"identify", "--config", "cfg.json", "--data", "cut.csv"});
+  ASSERT_EQ(cut.exit_code, 0) << cut;
+  EXPECT_TRUE(Contains(cut.err, "note: cut.csv: phase 'ais' has 339 samples, the config's pulse_length_a says " +
+                                    std::to_string(stated)))
+      << cut;
+}
+
 // A scheme without a solution: no estimates printed, and null (not the zeros they start at) in the JSON. One
 // output of 1e300 makes the normal matrix too ill-conditioned to solve.
 TEST_F(CliMistakes, AFailedSchemeHasNullEstimatesNotZeros) {

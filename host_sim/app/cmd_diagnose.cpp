@@ -23,6 +23,7 @@ int run_diagnose(const DiagnoseArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
   // As identify reads it: a float32 device's levels (lashid hil --record) given back as the config's.
   const Recording rec = read_recording_for(config, args.data);
+  for (const std::string& note : phase_length_notes(config, rec, args.data)) fmt::print(stderr, "note: {}\n", note);
   if (!args.json_out.empty()) check_can_write(args.json_out);
   if (!args.plot_out.empty()) report::plot::check_can_plot(args.plot_out);
   const Diagnosis d = diagnose(config, rec, args.data);

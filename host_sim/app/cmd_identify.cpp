@@ -1,4 +1,7 @@
 // `lashid identify`: DIS and/or AIS on a recording, printed next to the truth, optionally as JSON.
+#include <cstdio>
+#include <string>
+
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +23,7 @@ int run_identify(const IdentifyArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
   // A float32 device's recording (lashid hil --record) holds float(V_j): the estimator is given the levels.
   const Recording rec = read_recording_for(config, args.data);
+  for (const std::string& note : phase_length_notes(config, rec, args.data)) fmt::print(stderr, "note: {}\n", note);
   IdentifyOptions options;
   options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
 

@@ -4,7 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "lashid/estimator/design.hpp"
@@ -128,6 +133,32 @@ void check_recording_matches(const ExperimentConfig& config, const Recording& re
                       name, samples.size(), pulse_minimum));
     }
   }
+}
+
+std::vector<std::string> phase_length_notes(const ExperimentConfig& config, const Recording& recording,
+                                            std::string_view data_name) {
+  const auto step = config.step_length ? std::optional<std::int64_t>(std::int64_t{*config.step_length} + 1)
+                                       : std::nullopt;
+  const auto stated = [](const std::optional<int>& length) {
+    return length ? std::optional<std::int64_t>(*length) : std::nullopt;
+  };
+  const std::array<std::pair<std::optional<std::int64_t>, const char*>, kPhaseCount> expected = {{
+      {step, "step_length + 1"},
+      {stated(config.pulse_length_d), "pulse_length_d"},
+      {step, "step_length + 1"},
+      {stated(config.pulse_length_a), "pulse_length_a"},
+      {stated(config.val_length), "val_length"},
+  }};
+  std::vector<std::string> notes;
+  for (const Phase phase : kAllPhases) {
+    const auto& [length, key] = expected[phase_index(phase)];
+    const auto samples = static_cast<std::int64_t>(recording.phase(phase).size());
+    if (!length || samples == 0 || samples == *length) continue;
+    notes.push_back(fmt::format("{}: phase '{}' has {} samples, the config's {} says {} ({})", data_name,
+                                to_string(phase), samples, key, *length,
+                                samples < *length ? "a run stopped early, or a file cut short?" : "more than the run"));
+  }
+  return notes;
 }
 
 Recording read_recording_for(const ExperimentConfig& config, const std::filesystem::path& path) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -118,5 +119,11 @@ Recording snap_to_configured_levels(const ExperimentConfig& config, const Record
 // then snap_to_configured_levels (a float32 device's float(V_j) given back as the configured V_j). Throws DataError
 // naming `path`.
 Recording read_recording_for(const ExperimentConfig& config, const std::filesystem::path& path);
+
+// One line per recorded phase whose sample count differs from the length the config states for it (only the keys
+// the config sets: step_length (+ 1 per step phase), pulse_length_d/_a, val_length): a run stopped early, or a file
+// cut short. Not an error: a recording holds what was measured (docs/data-format.md); the tools print these as notes.
+std::vector<std::string> phase_length_notes(const ExperimentConfig& config, const Recording& recording,
+                                            std::string_view data_name);
 
 }  // namespace lashid::sim
