@@ -146,7 +146,7 @@ TEST_F(CliMistakes, ARecordingShorterThanItsConfigIsNoted) {
 }
 
 // A scheme without a solution: no estimates printed, and null (not the zeros they start at) in the JSON. One
-// output of 1e300 makes the normal matrix too ill-conditioned to solve.
+// output of 1e60 makes the normal matrix too ill-conditioned to solve (1e300 is refused as a sample, naming it).
 TEST_F(CliMistakes, AFailedSchemeHasNullEstimatesNotZeros) {
   simulate("rec.csv", "cfg.json");
   std::istringstream in(slurp(work_ / "rec.csv"));
@@ -154,7 +154,7 @@ TEST_F(CliMistakes, AFailedSchemeHasNullEstimatesNotZeros) {
   bool edited = false;
   for (std::string line; std::getline(in, line);) {
     if (!edited && line.starts_with("dis,")) {
-      line = line.substr(0, line.rfind(',')) + ",1e300";
+      line = line.substr(0, line.rfind(',')) + ",1e60";
       edited = true;
     }
     out << line << "\n";
@@ -170,6 +170,13 @@ TEST_F(CliMistakes, AFailedSchemeHasNullEstimatesNotZeros) {
   EXPECT_TRUE(e.at("dis").at("a").is_null());
   EXPECT_TRUE(e.at("dis").at("theta").is_null());
   EXPECT_TRUE(e.at("dis").at("ybar0").is_number());  // the step experiment's mean needs no solution
+  // A value too large for the estimator's sums is refused as a sample, naming the phase and t.
+  std::string text = slurp(work_ / "outlier.csv");
+  text.replace(text.find(",1e60"), 5, ",1e300");
+  std::ofstream(work_ / "huge.csv") << text;
+  const Outcome huge = run({"identify", "--config", "cfg.json", "--data", "huge.csv", "--scheme", "dis"});
+  EXPECT_EQ(huge.exit_code, 1) << huge;
+  EXPECT_TRUE(Contains(huge.err, "huge.csv: phase dis t = 0: non-finite or too large sample")) << huge;
 }
 
 // hil: one of --firmware and --attach is required (a second callback had replaced the check), and a firmware that

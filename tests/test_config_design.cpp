@@ -145,6 +145,11 @@ TEST(ConfigDesign, LengthStatusesNameTheirKeys) {
   d.val_length = 4294967295U;
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kRunTooLong);
   EXPECT_TRUE(Contains(design_status_message(fw::DesignStatus::kRunTooLong, d), "shorten 'step_length'"));
+  d.val_length = 1000;
+  d.pulse_length_a = (1U << 28) + 1;
+  EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kPulseTooLong);
+  EXPECT_TRUE(Contains(design_status_message(fw::DesignStatus::kPulseTooLong, d),
+                       "'pulse_length_a' = 268435457 is longer than the float32 estimator is accurate for"));
 }
 
 TEST(ConfigDesign, CheckedConversionsRefuseNamingTheKey) {

@@ -120,6 +120,10 @@ TEST(ConfigLengths, OnlyIntegersWithinAnInt) {
   EXPECT_EQ(config_error(with(valid_document(), "step_length", 2147483648LL)),
             "cfg.json: 'step_length' = 2147483648 is too large (at most 2147483647)");
   EXPECT_EQ(parse(with(valid_document(), "val_length", 2147483647)).val_length, 2147483647);
+  // A pulse experiment: at most 2^28 samples, the firmware's rule (its float32 sums lose accuracy beyond).
+  EXPECT_EQ(parse(with(valid_document(), "pulse_length_d", 268435456)).pulse_length_d, 268435456);
+  EXPECT_EQ(config_error(with(valid_document(), "pulse_length_a", 268435457)),
+            "cfg.json: 'pulse_length_a' = 268435457 is too large (at most 268435456)");
 }
 
 TEST(ConfigLengths, WriterKeepsExactlyTheGivenKeys) {

@@ -341,6 +341,35 @@ TEST(CrossCheck, LargestZOverAAndBInCombinedStandardErrors) {
   EXPECT_EQ(bad.status, Status::kOrderOutOfRange);
 }
 
+// One y too large for the float32 sums (3e19: its square overflows) but finite: refused like a NaN, with the same
+// estimate as the run where that sample is a NaN. Before, it was taken, and every later estimate was ill-conditioned.
+TEST(SchemeIdentifier, ASampleTooLargeForTheSumsIsRefusedLikeANaN) {
+  const Experiment x = dis_experiment(4.0, 2000, 6000, 3);
+  Experiment huge = x;
+  Experiment nan = x;
+  huge.pulse_y[3000] = 3e19;
+  nan.pulse_y[3000] = std::nan("");
+  int refused_huge = 0;
+  int refused_nan = 0;
+  const auto with_huge = feed<float>(huge, &refused_huge).estimate();
+  const auto with_nan = feed<float>(nan, &refused_nan).estimate();
+  ASSERT_EQ(with_huge.status, Status::kOk);
+  EXPECT_GT(refused_huge, 0);
+  EXPECT_EQ(refused_huge, refused_nan);
+  EXPECT_TRUE((with_huge.ls.theta.array() == with_nan.ls.theta.array()).all());
+  // The step experiment refuses it too (the mean would hold it).
+  SchemeIdentifier<float, 2, 6> id;
+  ExperimentDesign<float, 6> d;
+  d.v_min = -3;
+  d.v_max = 4;
+  d.V << -3, -2, -1, 1, 2, 3;
+  ASSERT_EQ(id.configure(d), Status::kOk);
+  ASSERT_EQ(id.add_step_sample(-3.0f, 1.0f), Status::kOk);
+  EXPECT_EQ(id.add_step_sample(4.0f, 3e19f), Status::kNonFinite);
+  EXPECT_EQ(id.add_step_sample(4.0f, -1e15f), Status::kNonFinite);
+  EXPECT_EQ(id.add_step_sample(4.0f, 1e13f), Status::kOk);
+}
+
 TEST(SchemeIdentifier, ReportsBadInputAsStatus) {
   SchemeIdentifier<float, 2, 6> id;
   EXPECT_EQ(id.add_step_sample(4.0f, 1.0f), Status::kNotConfigured);

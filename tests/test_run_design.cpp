@@ -82,12 +82,16 @@ TEST(CheckDesign, NamesEachViolatedRule) {
   EXPECT_EQ(with([](auto& d) { d.pulse_length_d = 41; }), DesignStatus::kPulseDTooShort);
   EXPECT_EQ(with([](auto& d) { d.pulse_length_a = 41; }), DesignStatus::kPulseATooShort);
   EXPECT_EQ(with([](auto& d) { d.val_length = 0xFFFF'FFF0U; }), DesignStatus::kRunTooLong);
+  // 2^28 pulse samples are the most the float32 estimator is held to; one more is refused, for either scheme.
+  EXPECT_EQ(with([](auto& d) { d.pulse_length_d = 1U << 28; }), DesignStatus::kOk);
+  EXPECT_EQ(with([](auto& d) { d.pulse_length_d = (1U << 28) + 1; }), DesignStatus::kPulseTooLong);
+  EXPECT_EQ(with([](auto& d) { d.pulse_length_a = (1U << 28) + 1; }), DesignStatus::kPulseTooLong);
   // Every status has its own words.
   std::set<std::string> names;
-  for (int s = 0; s <= static_cast<int>(DesignStatus::kBusy); ++s) {
+  for (int s = 0; s <= static_cast<int>(DesignStatus::kPulseTooLong); ++s) {
     names.insert(fw::to_string(static_cast<DesignStatus>(s)));
   }
-  EXPECT_EQ(names.size(), static_cast<std::size_t>(DesignStatus::kBusy) + 1);
+  EXPECT_EQ(names.size(), static_cast<std::size_t>(DesignStatus::kPulseTooLong) + 1);
 }
 
 TEST(RunDesignWire, RoundTripsAndRefusesMalformedPayloads) {

@@ -164,6 +164,13 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
     }
     case S::kSensorRangeInvalid:
       return fmt::format("'sensor_range' = [{}, {}] must have lo < hi", d.sensor_min, d.sensor_max);
+    case S::kPulseTooLong: {
+      const bool dis = d.pulse_length_d > est::kMaxPulseLength;
+      return fmt::format("'{}' = {} is longer than the float32 estimator is accurate for (at most {} samples: its "
+                         "sums lose accuracy beyond, docs/estimator.md)",
+                         dis ? "pulse_length_d" : "pulse_length_a", dis ? d.pulse_length_d : d.pulse_length_a,
+                         est::kMaxPulseLength);
+    }
     case S::kRunTooLong:
       return fmt::format("the run does not fit the firmware's 32-bit sample counter (at most {} samples with the "
                          "interval check): shorten 'step_length', 'pulse_length_d', 'pulse_length_a' or 'val_length'",

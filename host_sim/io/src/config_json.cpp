@@ -119,8 +119,9 @@ class ConfigReader : detail::JsonFieldReader {
     const int period = est::schedule::period(config.n, config.m);
     for (const auto& [key, field] : {std::pair{"pulse_length_d", &ExperimentConfig::pulse_length_d},
                                      std::pair{"pulse_length_a", &ExperimentConfig::pulse_length_a}}) {
+      // At most est::kMaxPulseLength: the firmware's float32 estimator is not accurate beyond (check_design).
       config.*field = read_optional_integer<int>(
-          document, key, 2 * std::int64_t{period}, kIntMax,
+          document, key, 2 * std::int64_t{period}, static_cast<int>(est::kMaxPulseLength),
           fmt::format("is shorter than two pulse periods (2T = {} for n = {}, m = {})", 2 * period, config.n,
                       config.m));
     }

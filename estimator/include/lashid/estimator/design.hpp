@@ -21,6 +21,13 @@ enum class Scheme : std::uint8_t {
   kAscending,   ///< AIS: points on the ascendent border
 };
 
+/// The longest pulse experiment the float32 estimator is held to: 2^28 = 268,435,456 rows (7.5 h at 10 kHz). Its
+/// grouped sums lose accuracy beyond (the paper's DIS example, noise sd 4, float32 against double grouped least
+/// squares: relative error of Theta 5.9e-5 at 10^7 rows and 5.7e-5 at 3.2e8, then 1.5e-4 at 6.4e8 and 8.2e-3 at
+/// 1.28e9, with the status still kOk; measured in review, session 14, docs/estimator.md). The firmware refuses a
+/// longer design (fw::DesignStatus::kPulseTooLong), and so does the host's config reader.
+inline constexpr std::int64_t kMaxPulseLength = std::int64_t{1} << 28;
+
 /// Period and pulse instants of Theorem 3.1, (3.25): T = n(m+3), tau_1 = 2n, tau_j = (2+j)n.
 /// (3.1) also asks tau_j - tau_{j-1} >= 2, which (3.25) violates for n = 1 (spacing 1: consecutive pulses would
 /// skip the return to the held level, so a backlash would move on a horizontal line, not on the border). We use

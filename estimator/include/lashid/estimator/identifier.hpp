@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "lashid/estimator/design.hpp"
 #include "lashid/estimator/grouped_rls.hpp"
@@ -50,7 +51,7 @@ class SchemeIdentifier {
   Status add_step_sample(Scalar v, Scalar y) {
     if (!configured_) return Status::kNotConfigured;
     const std::int64_t t = step_t_++;
-    if (!std::isfinite(v)) return Status::kNonFinite;
+    if (!std::isfinite(v) || !usable(y)) return Status::kNonFinite;
     const int expected = t == 0 ? 0 : Builder::Basis::kZero;  // W_1 is the opposite bound in both schemes
     if (builder_.basis().classify(v - design_.held_level()) != expected) return Status::kInputOffDesign;
     return step_.add(t, y);
@@ -63,7 +64,9 @@ class SchemeIdentifier {
     if (!step_.ready()) return Status::kStepMeanMissing;
     ++pulse_t_;
     const Scalar v_tilde = v - held_;
-    const Scalar y_tilde = y - step_.mean();
+    // A y too large for the sums becomes a NaN here, so that it and every row holding it as a lag are skipped as a
+    // NaN's are.
+    const Scalar y_tilde = usable(y) ? y - step_.mean() : std::numeric_limits<Scalar>::quiet_NaN();
     Status s = Status::kOk;
     // One dispatch on the order for the whole sample: the builder's and the solver's kernels compiled for n.
     with_order<N>(builder_.order(), [&](auto order) {

@@ -11,7 +11,7 @@ enum class [[nodiscard]] Status : std::uint8_t {
   kOrderOutOfRange,      ///< n or m outside the range the caller supports
   kIntervalInvalid,      ///< v_min >= v_max, or a bound is not finite
   kAbscissasNotOrdered,  ///< V_j violate v_m = V_1^d < ... < V_m^d < v_M (DIS) or v_M = V_1^a > ... > V_m^a > v_m (AIS)
-  kNonFinite,            ///< a sample (v or y) is NaN or infinite
+  kNonFinite,            ///< a sample (v or y) is NaN or infinite, or y too large for the sums (usable())
   kInputOffDesign,       ///< v(t) is not the held level or a design abscissa, or two pulses fall within n samples
   kStepMeanMissing,      ///< a pulse sample arrived before the step experiment produced a mean
   kNotExcited,           ///< some parameter has not been excited yet (too few samples)
@@ -26,7 +26,7 @@ constexpr const char* to_string(Status s) {
     case Status::kOrderOutOfRange: return "order out of range";
     case Status::kIntervalInvalid: return "working interval invalid (need finite v_min < v_max)";
     case Status::kAbscissasNotOrdered: return "abscissas not ordered as the paper requires";
-    case Status::kNonFinite: return "non-finite sample";
+    case Status::kNonFinite: return "non-finite or too large sample";
     case Status::kInputOffDesign: return "input not on the experiment design";
     case Status::kStepMeanMissing: return "pulse sample before the step-experiment mean";
     case Status::kNotExcited: return "not excited yet";
@@ -43,6 +43,20 @@ constexpr bool ok(Status s) { return s == Status::kOk; }
 template <class Scalar>
 constexpr bool finite(Scalar x) {
   return x - x == Scalar(0);
+}
+
+/// The largest |y| the estimator takes: the sums of squares and products of 2^32 such samples stay finite
+/// (sqrt(max / 2^32): 2.8e14 in float32, 2e149 in double). One larger but finite sample overflowed the float32
+/// sums and left every later estimate ill-conditioned; it is now refused like a NaN.
+template <class Scalar>
+inline constexpr Scalar kMaxSampleMagnitude = Scalar(1e14);
+template <>
+inline constexpr double kMaxSampleMagnitude<double> = 1e140;
+
+/// Finite and within kMaxSampleMagnitude (false for NaN: every comparison with it is).
+template <class Scalar>
+constexpr bool usable(Scalar x) {
+  return x < kMaxSampleMagnitude<Scalar> && -kMaxSampleMagnitude<Scalar> < x;
 }
 
 }  // namespace lashid::est

@@ -60,6 +60,8 @@ enum class [[nodiscard]] DesignStatus : std::uint8_t {
   kRunTooLong,          ///< the samples of the whole run do not fit the firmware's 32-bit counters
   kSensorRangeInvalid,  ///< the sensor range is NaN or empty (need sensor_min < sensor_max; infinite bounds allowed)
   kBusy,                ///< a design arrived after the start: a run's design cannot change (the run goes on)
+  // Added after the others so that the codes above keep their values on the link; checked after kPulseATooShort.
+  kPulseTooLong,        ///< N of a pulse experiment > est::kMaxPulseLength: float32's sums would lose accuracy
 };
 
 constexpr const char* to_string(DesignStatus s) {
@@ -84,6 +86,7 @@ constexpr const char* to_string(DesignStatus s) {
     case DesignStatus::kRunTooLong: return "the run's sample count does not fit 32 bits";
     case DesignStatus::kSensorRangeInvalid: return "sensor range invalid (need sensor_min < sensor_max)";
     case DesignStatus::kBusy: return "a run is under way: its design cannot change";
+    case DesignStatus::kPulseTooLong: return "a pulse length beyond 2^28 samples (float32 accuracy)";
   }
   return "unknown design status";
 }
@@ -212,6 +215,9 @@ constexpr DesignStatus check_design(const RunDesign& d) {
   const auto two_periods = static_cast<std::uint32_t>(2 * d.period());
   if (d.pulse_length_d < two_periods) return DesignStatus::kPulseDTooShort;
   if (d.pulse_length_a < two_periods) return DesignStatus::kPulseATooShort;
+  if (d.pulse_length_d > est::kMaxPulseLength || d.pulse_length_a > est::kMaxPulseLength) {
+    return DesignStatus::kPulseTooLong;
+  }
   // Interval check, two step phases (L + 1 each), two pulse phases and the validation: all in one u32 counter (the
   // interval check counted whatever the operator, so that the limit does not depend on it).
   const std::uint64_t check = std::uint64_t{kIntervalCheckPeriods} * 2U * 2U * static_cast<std::uint64_t>(d.period());
