@@ -1,5 +1,6 @@
 // Recursive least squares for the DIS/AIS regression (3.19) that exploits its structure: exact (3.21) at any time,
-// O(n^2) work per sample, accurate in float32 over 10^6 samples and more. See docs/estimator.md for the derivation.
+// O(n^2) work per sample, accurate in float32 up to kMaxPulseLength = 2^28 rows (design.hpp; measured to 3.2e8). See
+// docs/estimator.md for the derivation and the limits.
 //
 // On the design, a row Phi(t) = [phi_y(t); input part] has at most one non-zero input entry, at column k, and its
 // value is always the same number w_k = W_l (RegressorBuilder). Rows therefore fall into groups: g = 0 (no input
