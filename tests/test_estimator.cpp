@@ -89,6 +89,28 @@ TEST(ExperimentDesign, RejectsWhatThePaperForbids) {
   EXPECT_EQ(check_orders(2, 6, 3, 8), Status::kOk);
 }
 
+// Strictly ordered levels that float32's classifier cannot tell apart (its tolerance is 64 eps of the largest |W_j|,
+// here 7 x 64 x 1.19e-7 = 5.3e-5): before, the design validated, every sample classified, and the estimate stayed
+// "not excited" forever. The same levels in double are resolved.
+TEST(ExperimentDesign, RefusesLevelsTheClassifierCannotTellApart) {
+  ExperimentDesign<float, 6> f;
+  f.v_min = -3;
+  f.v_max = 4;
+  f.V << -3, -2, -1, 1, 2, 3;
+  EXPECT_EQ(f.validate(), Status::kOk);
+  f.V << -3, -2, -1, 1, 2, 2.00003f;  // 3e-5 from its neighbour
+  EXPECT_EQ(f.validate(), Status::kAbscissasTooClose);
+  f.V << -3, -2, -1, 1, 2, 3.99997f;  // 3e-5 from the held level v_M = 4
+  EXPECT_EQ(f.validate(), Status::kAbscissasTooClose);
+  SchemeIdentifier<float, 2, 6> id;
+  EXPECT_EQ(id.configure(f), Status::kAbscissasTooClose);
+  ExperimentDesign<double, 6> d;
+  d.v_min = -3;
+  d.v_max = 4;
+  d.V << -3, -2, -1, 1, 2, 2.00003;
+  EXPECT_EQ(d.validate(), Status::kOk);
+}
+
 TEST(LagrangeBasis, KroneckerPropertyAndPartitionOfUnity) {
   Eigen::Matrix<double, 6, 1> W;
   W << -7, -6, -5, -3, -2, -1;  // W_j = V_j^d - v_M of the DIS example

@@ -147,7 +147,7 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
                          d.v_min);
     case S::kLevelsTooClose: {
       // The firmware's own test, applied to one scheme at a time to name the key.
-      const bool d_distinct = fw::detail::distinct_from_held(d.V_d, d.m, d.v_max);
+      const bool d_distinct = est::levels_resolvable(d.V_d.data(), d.m, d.v_max);
       return fmt::format("'{}': two levels, or a level and the held level {}, are closer than the firmware's float32 "
                          "classifier resolves (2 x 64 eps of the largest |V_j - held|); it could not tell them apart",
                          d_distinct ? "V_a" : "V_d", d_distinct ? "v_min" : "v_max");

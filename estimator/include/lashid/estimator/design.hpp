@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -75,6 +76,32 @@ struct PulseSchedule {
   static_assert(rules_hold(), "pulse schedule violates (3.1)/(3.25)");
 };
 
+/// The relative resolution of LagrangeBasis::classify: a sample matches a node within kLevelResolution x max |W_j|.
+template <class Scalar>
+inline constexpr Scalar kLevelResolution = Scalar(64) * std::numeric_limits<Scalar>::epsilon();
+
+/// Whether the classifier tells the m levels V[0..m-1] apart from each other (neighbours in the design's order) and
+/// from the held level: every W_j = V_j - held, and every difference of neighbours, exceeds twice its tolerance (the
+/// two nodes' bands must not touch). Levels that are strictly ordered but closer are taken for one another, or for
+/// the held level: every sample classifies, and a point is never excited. V: the m levels (an Eigen vector's or a
+/// std::array's data()).
+template <class Scalar>
+constexpr bool levels_resolvable(const Scalar* V, int m, Scalar held) {
+  const auto magnitude = [](Scalar x) { return x < Scalar(0) ? -x : x; };
+  Scalar scale = Scalar(0);
+  for (int j = 0; j < m; ++j) {
+    const Scalar w = magnitude(V[j] - held);
+    if (w > scale) scale = w;
+  }
+  const Scalar tol = Scalar(2) * kLevelResolution<Scalar> * scale;
+  for (int j = 0; j < m; ++j) {
+    const Scalar w = V[j] - held;
+    if (!(magnitude(w) > tol)) return false;
+    if (j > 0 && !(magnitude(w - (V[j - 1] - held)) > tol)) return false;
+  }
+  return true;
+}
+
 /// The levels of one scheme. M is the capacity; the design uses the first m abscissas (m = M unless set).
 template <class Scalar, int M>
 struct ExperimentDesign {
@@ -116,6 +143,7 @@ struct ExperimentDesign {
         if (!(V(j - 1) > V(j))) return Status::kAbscissasNotOrdered;
       }
     }
+    if (!levels_resolvable(V.data(), m, held_level())) return Status::kAbscissasTooClose;
     return Status::kOk;
   }
 };

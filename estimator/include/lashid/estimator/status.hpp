@@ -17,6 +17,8 @@ enum class [[nodiscard]] Status : std::uint8_t {
   kNotExcited,           ///< some parameter has not been excited yet (too few samples)
   kIllConditioned,       ///< the (reduced) normal matrix is too ill-conditioned for the scalar type
   kDegenerateGain,       ///< sum b_i^2 = 0 or B(1) = 0: (3.22b)/(3.23) cannot be evaluated
+  // After the others, so that their codes keep their values in the firmware's reports.
+  kAbscissasTooClose,    ///< ordered, but two V_j (or one and the held level) closer than classify() resolves
 };
 
 constexpr const char* to_string(Status s) {
@@ -32,6 +34,7 @@ constexpr const char* to_string(Status s) {
     case Status::kNotExcited: return "not excited yet";
     case Status::kIllConditioned: return "ill-conditioned normal matrix";
     case Status::kDegenerateGain: return "degenerate gain (sum b_i^2 = 0 or B(1) = 0)";
+    case Status::kAbscissasTooClose: return "abscissas closer than the classifier resolves (64 eps of the largest)";
   }
   return "unknown status";
 }

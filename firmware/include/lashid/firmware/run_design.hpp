@@ -19,12 +19,11 @@
 namespace lashid::fw {
 
 namespace detail {
-// Constant-expression forms of isfinite and fabs: the rules are checked at compile time on the paper's designs
+// A constant-expression form of isfinite: the rules are checked at compile time on the paper's designs
 // (paper_run_designs.hpp), and libstdc++'s <cmath> functions are constexpr only as GCC builtins, not under Clang.
 constexpr bool finite(float x) {
   return x == x && x != std::numeric_limits<float>::infinity() && x != -std::numeric_limits<float>::infinity();
 }
-constexpr float magnitude(float x) { return x < 0 ? -x : x; }
 }  // namespace detail
 
 /// Capacity of the firmware image: fixed-size storage for models up to this order and points per border. The
@@ -165,27 +164,6 @@ struct RunDesign {
 static_assert(RunDesign::encoded_size(kMaxPoints) <= hal::link::kMaxPayload,
               "a design of the image's capacity must fit one link frame");
 
-namespace detail {
-// Levels closer than this (relative to the largest |W_j|) cannot be told apart by est::LagrangeBasis::classify.
-constexpr float kLevelResolution = 64.0f * std::numeric_limits<float>::epsilon();
-
-constexpr bool distinct_from_held(const std::array<float, kMaxPoints>& V, int m, float held) {
-  float scale = 0;
-  for (int j = 0; j < m; ++j) {
-    const float w = magnitude(V[static_cast<std::size_t>(j)] - held);
-    if (w > scale) scale = w;
-  }
-  // Twice the classifier's tolerance: the two nodes' tolerance bands must not touch.
-  const float tol = 2.0f * kLevelResolution * scale;
-  for (int j = 0; j < m; ++j) {
-    const float w = V[static_cast<std::size_t>(j)] - held;
-    if (!(magnitude(w) > tol)) return false;
-    if (j > 0 && !(magnitude(w - (V[static_cast<std::size_t>(j - 1)] - held)) > tol)) return false;
-  }
-  return true;
-}
-}  // namespace detail
-
 /// The paper's design rules and the image's capacity, first violation first (the order of DesignStatus).
 constexpr DesignStatus check_design(const RunDesign& d) {
   if (d.op != OperatorKind::kSwitch && d.op != OperatorKind::kBacklash) return DesignStatus::kUnknownOperator;
@@ -208,7 +186,7 @@ constexpr DesignStatus check_design(const RunDesign& d) {
     if (!(d.V_a[j - 1] > d.V_a[j])) return DesignStatus::kVaNotDecreasing;
   }
   if (!(d.V_a[m - 1] > d.v_min)) return DesignStatus::kVaNotAboveVMin;
-  if (!detail::distinct_from_held(d.V_d, d.m, d.v_max) || !detail::distinct_from_held(d.V_a, d.m, d.v_min)) {
+  if (!est::levels_resolvable(d.V_d.data(), d.m, d.v_max) || !est::levels_resolvable(d.V_a.data(), d.m, d.v_min)) {
     return DesignStatus::kLevelsTooClose;
   }
   if (d.step_length <= d.n) return DesignStatus::kStepTooShort;
