@@ -406,6 +406,12 @@ TEST(SchemeIdentifier, ReportsBadInputAsStatus) {
   EXPECT_EQ(id.add_step_sample(4.0f, std::nanf("")), Status::kNonFinite);
   EXPECT_EQ(id.add_pulse_sample(0.5f, 1.0f), Status::kInputOffDesign);  // not a design abscissa
   EXPECT_EQ(id.estimate().status, Status::kNotExcited);
+  // A failed configure() leaves nothing usable, the step mean included.
+  ExperimentDesign<float, 6> bad = d;
+  bad.v_max = -4;
+  EXPECT_EQ(id.configure(bad), Status::kIntervalInvalid);
+  EXPECT_EQ(id.add_pulse_sample(4.0f, 1.0f), Status::kNotConfigured);
+  EXPECT_EQ(id.add_step_sample(-3.0f, 1.0f), Status::kNotConfigured);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@ class SchemeIdentifier {
   /// kNotConfigured. kOrderOutOfRange for n outside [1, N] or a back-end that needs n = N, m = M.
   Status configure(const Design& design, int n = N) {
     configured_ = false;
+    step_ = StepMean<Scalar>{};  // first: while not configured, the step mean is never ready (add_pulse_sample)
     if (n < 1 || n > N) return Status::kOrderOutOfRange;
     const Status s = design.validate();
     if (s != Status::kOk) return s;
@@ -39,7 +40,6 @@ class SchemeIdentifier {
     held_ = design.held_level();
     builder_ = Builder(design.W(), n, design.m);
     if (solver_.reset(design.W(), n, design.m) != Status::kOk) return Status::kOrderOutOfRange;
-    step_ = StepMean<Scalar>{};
     step_t_ = 0;
     pulse_t_ = 0;
     configured_ = true;
@@ -60,14 +60,16 @@ class SchemeIdentifier {
   /// Sample t of the pulse experiment (3.1)/(4.2). Requires the step mean. Rows whose lags hold an off-design or
   /// non-finite sample are skipped (and reported); the estimate stays the least squares on the rows used.
   Status add_pulse_sample(Scalar v, Scalar y) {
-    if (!configured_) return Status::kNotConfigured;
-    if (!step_.ready()) return Status::kStepMeanMissing;
+    // One test on the path of every sample: not configured implies no step mean (configure() clears it first).
+    if (!step_.ready()) return configured_ ? Status::kStepMeanMissing : Status::kNotConfigured;
     ++pulse_t_;
     const Scalar v_tilde = v - held_;
-    // A y too large for the sums becomes a NaN here, so that it and every row holding it as a lag are skipped as a
-    // NaN's are.
-    const Scalar y_tilde = usable(y) ? y - step_.mean() : std::numeric_limits<Scalar>::quiet_NaN();
+    // A y too large for the sums (or NaN, or infinite: fabs and < are false or too large for them) becomes a NaN
+    // here, so that it and every row holding it as a lag are skipped as a NaN's are.
+    const Scalar y_tilde =
+        std::fabs(y) < kMaxSampleMagnitude<Scalar> ? y - step_.mean() : std::numeric_limits<Scalar>::quiet_NaN();
     Status s = Status::kOk;
+    bool took_row = false;
     // One dispatch on the order for the whole sample: the builder's and the solver's kernels compiled for n.
     with_order<N>(builder_.order(), [&](auto order) {
       constexpr int Nn = decltype(order)::value;
@@ -79,11 +81,14 @@ class SchemeIdentifier {
         } else {
           s = solver_.update(builder_, y_tilde);
         }
+        took_row = true;
       }
       builder_.template push_n<Nn>(v_tilde, y_tilde);
     });
     if (s != Status::kOk) return s;
-    if (!finite(y_tilde)) return Status::kNonFinite;
+    // A row taken had a finite target (every solver refuses a NaN one): only without a row is y_tilde checked here.
+    // (This check on every sample paid for the magnitude rule above: 299.3 instructions per sample on the M4F.)
+    if (!took_row && !finite(y_tilde)) return Status::kNonFinite;
     // A NaN or infinite v is never a design level: classified off the design, it is told apart only here.
     if (builder_.newest_class() == Builder::Basis::kOffDesign) {
       return finite(v) ? Status::kInputOffDesign : Status::kNonFinite;
