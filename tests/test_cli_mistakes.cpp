@@ -192,6 +192,38 @@ TEST_F(CliMistakes, HilNamesAMissingOrWrongFirmware) {
   EXPECT_FALSE(Contains(text.out + text.err, "qemu")) << text;
 }
 
+// What hil can check before the run it checks before it (the run takes seconds to minutes): the file of
+// --expect-estimates and the --json path. Both are found here before the firmware file is even looked at.
+TEST_F(CliMistakes, HilChecksItsInputsBeforeTheRun) {
+  std::ofstream(work_ / "text.elf") << "not an image\n";
+  std::ofstream(work_ / "expected.json") << R"({"dis": {"a": [1], "b": [1, 2], "F": [1], "status": 0}})";
+  const Outcome shape = run({"hil", "--scenario", "dis_paper", "--firmware", "text.elf", "--expect-estimates",
+                             "expected.json"});
+  EXPECT_EQ(shape.exit_code, 1) << shape;
+  EXPECT_TRUE(Contains(shape.err, "expected.json: 'dis': a and b need 1 to 4 entries each")) << shape;
+  std::ofstream(work_ / "no_status.json") << R"({"dis": {"a": [1], "b": [1], "F": [1]}})";
+  const Outcome status = run({"hil", "--scenario", "dis_paper", "--firmware", "text.elf", "--expect-estimates",
+                              "no_status.json"});
+  EXPECT_EQ(status.exit_code, 1) << status;
+  EXPECT_TRUE(Contains(status.err, "'dis' is not an estimate of a `lashid hil --json` file")) << status;
+  const Outcome json_dir = run({"hil", "--scenario", "dis_paper", "--firmware", "text.elf", "--json", "nodir/r.json"});
+  EXPECT_EQ(json_dir.exit_code, 1) << json_dir;
+  EXPECT_TRUE(Contains(json_dir.err, "nodir")) << json_dir;
+  EXPECT_FALSE(Contains(json_dir.err, "ARM ELF")) << json_dir;
+  const Outcome timeout = run({"hil", "--scenario", "dis_paper", "--firmware", "text.elf", "--timeout", "1e12"});
+  EXPECT_NE(timeout.exit_code, 0) << timeout;
+  EXPECT_TRUE(Contains(timeout.err, "--timeout")) << timeout;
+}
+
+// A config's sensor_range of the wrong size: the message says what it needs, once.
+TEST_F(CliMistakes, ASensorRangeOfTheWrongSizeIsSaidPlainly) {
+  std::ofstream(work_ / "cfg.json") << R"({"n": 2, "m": 2, "v_min": -3, "v_max": 4, "operator": "switch",
+    "V_d": [-3, 1], "V_a": [4, 2], "sensor_range": [1, 2, 3]})";
+  const Outcome r = run({"design", "--check", "cfg.json"});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(Contains(r.err, "cfg.json: 'sensor_range' must have 2 entries, got 3")) << r;
+}
+
 // The generator's rules on --cause are said in terms of the option.
 TEST_F(CliMistakes, HiddenEffectNamesTheCauseListThatIsWrong) {
   const Outcome repeated = run({"hidden-effect", "--cause", "dead_time+dead_time", "--out", "r.csv", "--config-out",

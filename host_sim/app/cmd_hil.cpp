@@ -17,6 +17,7 @@
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/data_error.hpp"
+#include "lashid/io/files.hpp"
 #include "lashid/io/json.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/io/recording.hpp"
@@ -113,7 +114,9 @@ std::vector<fw::EstimateRecord> read_expected_estimates(const std::string& path)
       std::copy(F.begin(), F.end(), r.F.begin());
       out.push_back(r);
     } catch (const nlohmann::json::exception& e) {
-      throw DataError(path, fmt::format("'{}': {}", key, e.what()));
+      throw DataError(path, fmt::format("'{}' is not an estimate of a `lashid hil --json` file (it needs a, b and F as "
+                                        "numbers and a status): {}",
+                                        key, e.what()));
     }
   }
   if (out.empty()) throw DataError(path, "holds no estimate ('dis' or 'ais'): not a `lashid hil --json` file");
@@ -123,6 +126,10 @@ std::vector<fw::EstimateRecord> read_expected_estimates(const std::string& path)
 }  // namespace
 
 int run_hil_command(const HilArgs& args) {
+  // What can be checked before the run is, so that a mistake does not cost the run and its results.
+  if (!args.json_out.empty()) check_can_write(args.json_out);
+  std::optional<std::vector<fw::EstimateRecord>> expected_records;
+  if (!args.expect_estimates.empty()) expected_records = read_expected_estimates(args.expect_estimates);
   // The design: the config's (checked on the host unless --unchecked-design), else the scenario's. The plant: the
   // plant file's, else the scenario's. The config also names the levels printed and identifies the recording.
   const Scenario* scenario = args.scenario.empty() ? nullptr : &find_scenario(args.scenario);
@@ -171,15 +178,23 @@ int run_hil_command(const HilArgs& args) {
   HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
   // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3).
   const ExperimentConfig* identified_with = config ? &*config : scenario != nullptr ? &scenario->config : nullptr;
+  std::string recording_unreadable;
   if (!args.record.empty() && r.recording_complete && identified_with != nullptr && (verdict.dis || verdict.ais) &&
       identified_with->n <= kMaxOrder && identified_with->m <= kMaxPoints) {
-    verdict.recording = compare_with_recording(r, verdict, identify_recording(*identified_with, args.record,
-                                                                              r.estimates), args.tolerance);
-    if (!verdict.recording->equal) verdict.failures.push_back(HilFailure::kDifferentFromRecording);
+    try {
+      verdict.recording = compare_with_recording(r, verdict, identify_recording(*identified_with, args.record,
+                                                                                r.estimates), args.tolerance);
+      if (!verdict.recording->equal) verdict.failures.push_back(HilFailure::kDifferentFromRecording);
+    } catch (const DataError& e) {
+      // The host cannot identify what the firmware recorded (e.g. a sample beyond the estimator's range): a failed
+      // check of this run, not an error that would lose its verdict and its JSON.
+      recording_unreadable = e.what();
+      verdict.failures.push_back(HilFailure::kDifferentFromRecording);
+    }
   }
   std::optional<RecordingComparison> expected;
-  if (!args.expect_estimates.empty()) {
-    expected = compare_with_recording(r, verdict, read_expected_estimates(args.expect_estimates), 0.0);
+  if (expected_records) {
+    expected = compare_with_recording(r, verdict, *expected_records, 0.0);
     if (!expected->equal) verdict.failures.push_back(HilFailure::kDifferentFromExpected);
   }
 
@@ -204,9 +219,14 @@ int run_hil_command(const HilArgs& args) {
                r.faults.flipped, r.faults.duplicated, r.protocol_errors, r.cost ? r.cost->link_errors : 0,
                r.host_retries, r.cost ? r.cost->retries : 0);
   }
-  if (!args.record.empty()) {
+  if (!args.record.empty() && r.recorded == 0) {
+    fmt::print("  no recording written: not a sample was measured ({} keeps what it held)\n", args.record);
+  } else if (!args.record.empty()) {
     fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
                r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
+  }
+  if (!recording_unreadable.empty()) {
+    fmt::print("  the recording could not be identified on the host: {}\n", recording_unreadable);
   }
   // The truth printed is the scenario's only when its plant was played.
   ExperimentConfig shown = config ? *config : scenario->config;

@@ -149,7 +149,8 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                   "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3), netduinoplus2 (STM32F405)")
       ->capture_default_str();
   cmd->add_option("--qemu", args.qemu, "QEMU executable")->capture_default_str();
-  cmd->add_option("--timeout", args.timeout, "Wall-clock limit in seconds")->check(kFinite & CLI::PositiveNumber)
+  cmd->add_option("--timeout", args.timeout, "Wall-clock limit in seconds")
+      ->check(kFinite & CLI::Range(0.001, 1e6))
       ->capture_default_str();
   cmd->add_option("--corrupt-every", args.corrupt_every,
                       "Fault injection: damage every k-th measurement frame (the firmware must detect it)")

@@ -96,7 +96,11 @@ HilResult run_hil(const HilOptions& options) {
     std::string kept;
     try {
       detail::finish_recording(recorder, fmt::format("the host stopped the run: {}", e.what()), result);
-      kept = fmt::format("{} samples measured before it are in {} (marked partial)", result.recorded, options.record);
+      kept = result.recorded == 0
+                 ? fmt::format("no recording written: not a sample was measured ({} keeps what it held)",
+                               options.record)
+                 : fmt::format("{} samples measured before it are in {} (marked partial)", result.recorded,
+                               options.record);
     } catch (const std::exception& r) {
       kept = fmt::format("no recording written: {}", r.what());
     }

@@ -54,6 +54,12 @@ void finish_recording(std::optional<RunRecorder>& recorder, std::string_view how
   if (!recorder) return;
   result.recorded = recorder->rows();
   result.recording_complete = recorder->complete();
+  // Not a sample measured (a refused design, a firmware that never started): nothing to write, and that is not the
+  // run's error; the target keeps its previous content and the caller reports recorded = 0.
+  if (result.recorded == 0) {
+    recorder->discard();
+    return;
+  }
   recorder->finish(how_it_ended);
 }
 

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <optional>
@@ -81,8 +82,10 @@ class Session {
 
   void run() {
     const auto start = Clock::now();
-    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(options_.timeout_seconds));
+    // At most a year: a larger limit would overflow the clock's nanoseconds (the CLI allows up to 1e6 s).
+    const double limit = std::clamp(options_.timeout_seconds, 0.0, 3.15e7);
+    const auto deadline =
+        start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limit));
     last_heard_ = start;
     send_link(command(link::Command::kQuery));
     sent_at_ = start;

@@ -130,7 +130,7 @@ class ConfigReader : detail::JsonFieldReader {
                                                            std::numeric_limits<std::uint32_t>::max(),
                                                            "must not be negative (an unsigned 32-bit seed)");
     if (const auto found = document.find("sensor_range"); found != document.end()) {
-      const std::vector<double> range = read_array(*found, "sensor_range", 2, "[lo, hi]: 2");
+      const std::vector<double> range = read_array(*found, "sensor_range", 2, "");
       if (!(range[0] < range[1])) {
         fail(fmt::format("'sensor_range' = [{}, {}] must have lo < hi", range[0], range[1]));
       }
@@ -138,14 +138,16 @@ class ConfigReader : detail::JsonFieldReader {
     }
   }
 
+  // `size_name` names where the size comes from ("m": "m = 6 entries"); empty for a fixed size ("2 entries").
   std::vector<double> read_array(const json& value, std::string_view key, std::size_t expected_size,
                                  std::string_view size_name) const {
+    const std::string count = size_name.empty() ? fmt::format("{}", expected_size)
+                                                : fmt::format("{} = {}", size_name, expected_size);
     if (!value.is_array()) {
-      fail(fmt::format("'{}' must be an array of {} = {} numbers, got {}", key, size_name, expected_size,
-                       value.type_name()));
+      fail(fmt::format("'{}' must be an array of {} numbers, got {}", key, count, value.type_name()));
     }
     if (value.size() != expected_size) {
-      fail(fmt::format("'{}' must have {} = {} entries, got {}", key, size_name, expected_size, value.size()));
+      fail(fmt::format("'{}' must have {} entries, got {}", key, count, value.size()));
     }
     return read_numbers(value, key);
   }
