@@ -140,8 +140,8 @@ struct RunDesign {
     for (int j = 0; j < m && j < kMaxPoints; ++j) w.f32(V_a[static_cast<std::size_t>(j)]);
   }
 
-  /// Reads a kDesign payload. kMalformed when the length does not match m or m exceeds the capacity (its arrays
-  /// could not be read); the rules themselves are check_design()'s.
+  /// Reads a kDesign payload. kMalformed when the length does not match m; kPointsOutOfRange when m exceeds the
+  /// capacity (its arrays are then not read); the rules themselves are check_design()'s.
   DesignStatus decode(hal::link::PayloadReader r) {
     const std::uint8_t op_byte = r.u8();
     n = r.u8();
