@@ -35,3 +35,11 @@ if "${lashid}" hil --firmware "${firmware}" --config "${dir}/config.json" --scen
 fi
 cat "${dir}/host.txt"
 grep -q "V_d" "${dir}/host.txt"
+# A machine QEMU does not know: QEMU exits at once, and so does hil, with QEMU's own words (it used to wait the whole
+# 10 s for the link socket and then say only that QEMU did not connect).
+if "${lashid}" hil --firmware "${firmware}" --scenario dis_paper --machine no-such-board >"${dir}/machine.txt" 2>&1; then
+  echo "refused_design: a run on an unknown machine passed" >&2
+  exit 1
+fi
+cat "${dir}/machine.txt"
+grep -q "QEMU exited before it connected to the link (UART0) socket: " "${dir}/machine.txt"

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -51,9 +52,32 @@ class UnixListener {
   int fd_ = -1;
 };
 
-int accept_with_timeout(int listener, int timeout_ms, const char* what) {
-  pollfd p{listener, POLLIN, 0};
-  if (::poll(&p, 1, timeout_ms) <= 0) {
+// What QEMU wrote before it exited (its console pipe, at end of file), at most a screenful.
+std::string exit_words(int console) {
+  std::string text;
+  char buffer[512];
+  for (ssize_t n; text.size() < 2000 && (n = ::read(console, buffer, sizeof buffer)) != 0;) {
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  return text.empty() ? std::string("it printed nothing") : text;
+}
+
+// Waits for QEMU to connect to `listener`. The console pipe is watched for its end only (events 0: its data stays for
+// the session): when QEMU exits first (an unknown machine, an image it cannot load), that is said at once, with
+// QEMU's own words, instead of after the whole wait.
+int accept_with_timeout(int listener, int console, int timeout_ms, const char* what) {
+  pollfd p[2] = {{listener, POLLIN, 0}, {console, 0, 0}};
+  const int ready = ::poll(p, console >= 0 ? 2 : 1, timeout_ms);
+  if (ready > 0 && (p[0].revents & POLLIN) == 0 && (p[1].revents & (POLLHUP | POLLERR)) != 0) {
+    throw std::runtime_error(
+        fmt::format("hil: QEMU exited before it connected to the {} socket: {}", what, exit_words(console)));
+  }
+  if (ready <= 0) {
     throw std::runtime_error(fmt::format("hil: QEMU did not connect to the {} socket", what));
   }
   const int fd = ::accept4(listener, nullptr, nullptr, SOCK_CLOEXEC);
@@ -114,8 +138,8 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
     errno = spawn_error;
     fail_errno("cannot start " + options.qemu);
   }
-  fds.link = accept_with_timeout(link_listener.fd(), 10000, "link (UART0)");
-  fds.plant = accept_with_timeout(plant_listener.fd(), 10000, "plant (UART1)");
+  fds.link = accept_with_timeout(link_listener.fd(), fds.console, 10000, "link (UART0)");
+  fds.plant = accept_with_timeout(plant_listener.fd(), fds.console, 10000, "plant (UART1)");
 }
 
 int connect_with_timeout(const std::string& path, int timeout_ms) {
