@@ -219,11 +219,13 @@ int run_hil_command(const HilArgs& args) {
                r.faults.flipped, r.faults.duplicated, r.protocol_errors, r.cost ? r.cost->link_errors : 0,
                r.host_retries, r.cost ? r.cost->retries : 0);
   }
-  if (!args.record.empty() && r.recorded == 0) {
-    fmt::print("  no recording written: not a sample was measured ({} keeps what it held)\n", args.record);
-  } else if (!args.record.empty()) {
-    fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
-               r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
+  if (!args.record.empty()) {
+    if (r.recorded == 0) {
+      fmt::print("  no recording written: not a sample was measured ({} keeps what it held)\n", args.record);
+    } else {
+      fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
+                 r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
+    }
   }
   if (!recording_unreadable.empty()) {
     fmt::print("  the recording could not be identified on the host: {}\n", recording_unreadable);

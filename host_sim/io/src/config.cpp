@@ -61,7 +61,8 @@ std::vector<double> allowed_levels(const ExperimentConfig& config, Phase phase) 
 
 double level_tolerance(const ExperimentConfig& config) {
   const double scale = std::max({config.v_max - config.v_min, std::fabs(config.v_min), std::fabs(config.v_max)});
-  return 64.0 * static_cast<double>(std::numeric_limits<float>::epsilon()) * scale;
+  // The firmware classifier's own resolution in float32 (est::LagrangeBasis).
+  return static_cast<double>(est::kLevelResolution<float>) * scale;
 }
 
 Recording snap_to_configured_levels(const ExperimentConfig& config, const Recording& recording) {

@@ -9,10 +9,10 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
 
 #include <Eigen/Core>
 
+#include "lashid/estimator/lagrange.hpp"
 #include "lashid/estimator/status.hpp"
 
 namespace lashid::est {
@@ -75,10 +75,6 @@ struct PulseSchedule {
   }
   static_assert(rules_hold(), "pulse schedule violates (3.1)/(3.25)");
 };
-
-/// The relative resolution of LagrangeBasis::classify: a sample matches a node within kLevelResolution x max |W_j|.
-template <class Scalar>
-inline constexpr Scalar kLevelResolution = Scalar(64) * std::numeric_limits<Scalar>::epsilon();
 
 /// Whether the classifier tells the m levels V[0..m-1] apart from each other (neighbours in the design's order) and
 /// from the held level: every W_j = V_j - held, and every difference of neighbours, exceeds twice its tolerance (the

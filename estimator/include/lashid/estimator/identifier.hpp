@@ -64,10 +64,9 @@ class SchemeIdentifier {
     if (!step_.ready()) return configured_ ? Status::kStepMeanMissing : Status::kNotConfigured;
     ++pulse_t_;
     const Scalar v_tilde = v - held_;
-    // A y too large for the sums (or NaN, or infinite: fabs and < are false or too large for them) becomes a NaN
-    // here, so that it and every row holding it as a lag are skipped as a NaN's are.
-    const Scalar y_tilde =
-        std::fabs(y) < kMaxSampleMagnitude<Scalar> ? y - step_.mean() : std::numeric_limits<Scalar>::quiet_NaN();
+    // A y that is not usable (too large for the sums, NaN or infinite) becomes a NaN here, so that it and every row
+    // holding it as a lag are skipped as a NaN's are.
+    const Scalar y_tilde = usable(y) ? y - step_.mean() : std::numeric_limits<Scalar>::quiet_NaN();
     Status s = Status::kOk;
     bool took_row = false;
     // One dispatch on the order for the whole sample: the builder's and the solver's kernels compiled for n.
@@ -87,7 +86,7 @@ class SchemeIdentifier {
     });
     if (s != Status::kOk) return s;
     // A row taken had a finite target (every solver refuses a NaN one): only without a row is y_tilde checked here.
-    // (This check on every sample paid for the magnitude rule above: 299.3 instructions per sample on the M4F.)
+    // (This check on every sample paid for the magnitude rule above: docs/on-target-cost.md.)
     if (!took_row && !finite(y_tilde)) return Status::kNonFinite;
     // A NaN or infinite v is never a design level: classified off the design, it is told apart only here.
     if (builder_.newest_class() == Builder::Basis::kOffDesign) {

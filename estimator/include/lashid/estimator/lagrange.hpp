@@ -5,10 +5,15 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Core>
 
 namespace lashid::est {
+
+/// The relative resolution of LagrangeBasis::classify: a sample matches a node within kLevelResolution x max |W_j|.
+template <class Scalar>
+inline constexpr Scalar kLevelResolution = Scalar(64) * std::numeric_limits<Scalar>::epsilon();
 
 template <class Scalar, int M>
 class LagrangeBasis {
@@ -22,7 +27,7 @@ class LagrangeBasis {
     for (int j = 0; j < m_; ++j) scale = std::fmax(scale, std::fabs(W_(j)));
     // Relative tolerance for matching a sample to a node: inputs that went through text or float conversion still
     // match, distinct nodes (validated strictly ordered) do not, unless closer than this.
-    tolerance_ = scale * Scalar(64) * Eigen::NumTraits<Scalar>::epsilon();
+    tolerance_ = scale * kLevelResolution<Scalar>;
   }
 
   /// P_j(w), j = 0..m-1 (the paper's j = 1..m).

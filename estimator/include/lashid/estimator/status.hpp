@@ -1,6 +1,7 @@
 // Status codes of the estimator. Numerical or input failure is a returned status, never an exception or a crash.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 namespace lashid::est {
@@ -56,10 +57,11 @@ inline constexpr Scalar kMaxSampleMagnitude = Scalar(1e14);
 template <>
 inline constexpr double kMaxSampleMagnitude<double> = 1e140;
 
-/// Finite and within kMaxSampleMagnitude (false for NaN: every comparison with it is).
+/// Finite and within kMaxSampleMagnitude (false for NaN: every comparison with it is). One fabs and one compare: it
+/// is on the path of every sample.
 template <class Scalar>
-constexpr bool usable(Scalar x) {
-  return x < kMaxSampleMagnitude<Scalar> && -kMaxSampleMagnitude<Scalar> < x;
+inline bool usable(Scalar x) {
+  return std::fabs(x) < kMaxSampleMagnitude<Scalar>;
 }
 
 }  // namespace lashid::est
