@@ -123,11 +123,13 @@ std::vector<fw::EstimateRecord> read_expected_estimates(const std::string& path)
   return out;
 }
 
-}  // namespace
+// The --json of a run that ended in an error: no estimates, the verdict failed, and why.
+nlohmann::json error_json(const std::string& what) {
+  return {{"verdict", {{"ok", false}, {"failures", {"error"}}}}, {"error", what}};
+}
 
-int run_hil_command(const HilArgs& args) {
-  // What can be checked before the run is, so that a mistake does not cost the run and its results.
-  if (!args.json_out.empty()) check_can_write(args.json_out);
+// The command once its --json is known writable.
+int run_checked_hil(const HilArgs& args) {
   std::optional<std::vector<fw::EstimateRecord>> expected_records;
   if (!args.expect_estimates.empty()) expected_records = read_expected_estimates(args.expect_estimates);
   // The design: the config's (checked on the host unless --unchecked-design), else the scenario's. The plant: the
@@ -321,6 +323,26 @@ int run_hil_command(const HilArgs& args) {
   if (!args.json_out.empty()) write_json_file(args.json_out, out);
   if (!r.console.empty()) fmt::print("  firmware console:\n{}", r.console);
   return verdict.ok() ? 0 : 1;
+}
+
+}  // namespace
+
+int run_hil_command(const HilArgs& args) {
+  // What can be checked before the run is, so that a mistake does not cost the run and its results.
+  if (!args.json_out.empty()) check_can_write(args.json_out);
+  try {
+    return run_checked_hil(args);
+  } catch (const std::exception& e) {
+    // A command that ends in an error replaces an earlier --json too: a script that reads only the file must not
+    // see an old pass.
+    if (!args.json_out.empty()) write_json_file(args.json_out, error_json(e.what()));
+    if (const auto* stopped = dynamic_cast<const HilInterrupted*>(&e)) {
+      std::fflush(stdout);
+      fmt::print(stderr, "lashid: error: {}\n", e.what());
+      return 128 + stopped->signal();
+    }
+    throw;
+  }
 }
 
 int run_qemu_command(const QemuCommandArgs& args) {

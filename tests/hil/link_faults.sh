@@ -30,10 +30,9 @@ if run --timeout ${limit} --fault-rate 0.05 --fault-seed 7 --expect-estimates "$
   echo "link_faults: P = 0.05 completed with the clean run's estimates"
 else
   cat "${dir}/bad.txt" | grep -v '^    '
-  grep -Eq 'no end after|verdict: FAIL|firmware result: sensor fault' "${dir}/bad.txt"
-  ! grep -q 'verdict: pass' "${dir}/bad.txt"
+  # A named failure: the tool's own time limit (it says which), a failed verdict, or a sensor fault; never a pass.
+  grep -Eq "no end after ${limit} s|verdict: FAIL|firmware result: sensor fault" "${dir}/bad.txt"
+  if grep -q 'verdict: pass' "${dir}/bad.txt"; then echo "link_faults: a failed run said pass" >&2; exit 1; fi
 fi
-elapsed=$((SECONDS - start))
-echo "link_faults: P = 0.05 ended after ${elapsed} s (limit ${limit} s)"
-# The limit, plus QEMU's start and the host's own work after it.
-test "${elapsed}" -le $((limit + 15))
+# Reported, not asserted (a shared machine's load sets it; CTest's TIMEOUT bounds the test).
+echo "link_faults: P = 0.05 ended after $((SECONDS - start)) s (limit ${limit} s)"

@@ -1,6 +1,9 @@
 // The mps2 facts the shared Cortex-M support asks of its board (lashid/hal/cortex_m.hpp), and the platform's init.
 #include "lashid/hal/mps2.hpp"
 
+// The machine, for `lashid hil` (section .lashid.machine, not loaded).
+LASHID_CORTEX_M_MACHINE_TAG(LASHID_QEMU_MACHINE_NAME);
+
 namespace lashid::hal::cortex_m {
 
 const char* machine_name() { return LASHID_QEMU_MACHINE_NAME; }

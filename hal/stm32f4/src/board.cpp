@@ -2,6 +2,9 @@
 // init.
 #include "lashid/hal/stm32f4.hpp"
 
+// The machine, for `lashid hil` (section .lashid.machine, not loaded).
+LASHID_CORTEX_M_MACHINE_TAG(LASHID_QEMU_MACHINE_NAME);
+
 namespace lashid::hal::cortex_m {
 
 const char* machine_name() { return LASHID_QEMU_MACHINE_NAME; }

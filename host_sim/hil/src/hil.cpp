@@ -3,20 +3,21 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "lashid/hil/qemu_args.hpp"
 #include "lashid/sim/scenario.hpp"
+#include "elf_image.hpp"
 #include "played_run.hpp"
 #include "qemu_process.hpp"
 #include "session.hpp"
+#include "stop_signals.hpp"
 
 namespace lashid::sim {
 
@@ -31,14 +32,25 @@ std::vector<std::string> qemu_command_line(const QemuCommand& command) {
 
 namespace {
 
-// The ELF magic and e_machine = EM_ARM (40), little-endian, at byte 18 of the header.
-bool is_arm_elf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::array<unsigned char, 20> header{};
-  if (!in.read(reinterpret_cast<char*>(header.data()), static_cast<std::streamsize>(header.size()))) return false;
-  constexpr int kEmArm = 40;
-  return header[0] == 0x7f && header[1] == 'E' && header[2] == 'L' && header[3] == 'F' &&
-         (header[18] | (header[19] << 8)) == kEmArm;
+// The preset that builds the image for each machine QEMU runs (CMakePresets.json), for the message below.
+const char* preset_for(const std::string& machine) {
+  if (machine == "mps2-an386") return "cm4f-release";
+  if (machine == "mps2-an500") return "cm7-release";
+  if (machine == "mps2-an385") return "cm3-release";
+  if (machine == "netduinoplus2") return "stm32f405-release";
+  return nullptr;
+}
+
+// An image built for another machine faults or waits on a UART that is not there, until the time limit: refused
+// before QEMU starts, naming both machines.
+void check_machine(const HilOptions& options) {
+  const std::optional<std::string> built_for = detail::elf_machine_tag(options.firmware);
+  if (!built_for || *built_for == options.machine) return;
+  const char* preset = preset_for(options.machine);
+  throw std::runtime_error(fmt::format(
+      "hil: firmware '{}' is built for QEMU machine '{}', not '{}': run it with --machine {}{}", options.firmware,
+      *built_for, options.machine, *built_for,
+      preset != nullptr ? fmt::format(", or build the image for {} (preset {})", options.machine, preset) : ""));
 }
 
 }  // namespace
@@ -51,20 +63,24 @@ HilResult run_hil(const HilOptions& options) {
   if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
     throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
   }
-  if (!attach && !is_arm_elf(options.firmware)) {
+  if (!attach && !detail::is_arm_elf(options.firmware)) {
     // QEMU would boot any bytes and stop in a lockup with a register dump.
     throw std::runtime_error("hil: firmware '" + options.firmware +
                              "' is not an ARM ELF image (a cross preset builds one: "
                              "build/cm4f-release/firmware/lashid_fw.elf)");
   }
+  if (!attach) check_machine(options);
   // The design sent (options.design or the scenario's), the plant played (the scenario's or a plant file's) and
   // the recording, opened before QEMU starts (played_run.hpp).
   const fw::RunDesign design = detail::run_design_of(options);
   AnyPlant plant = detail::played_plant(options, design);
   std::optional<RunRecorder> recorder;
   detail::start_recording(recorder, options, design);
-  char dir_template[] = "/tmp/lashid-hil-XXXXXX";
-  if (::mkdtemp(dir_template) == nullptr) detail::fail_errno("mkdtemp");
+  // From here on a stop signal ends the run through the cleanup below (stop_signals.hpp).
+  const detail::StopSignals stop_signals;
+  // The sockets' folder in $TMPDIR (else /tmp), removed by the cleanup.
+  std::string dir_template = (std::filesystem::temp_directory_path() / "lashid-hil-XXXXXX").string();
+  if (::mkdtemp(dir_template.data()) == nullptr) detail::fail_errno("mkdtemp in " + dir_template);
   const std::filesystem::path dir(dir_template);
   HilResult result;
   pid_t qemu = -1;
@@ -104,7 +120,9 @@ HilResult run_hil(const HilOptions& options) {
     } catch (const std::exception& r) {
       kept = fmt::format("no recording written: {}", r.what());
     }
-    throw std::runtime_error(fmt::format("{}; {}", e.what(), kept));
+    const std::string message = fmt::format("{}; {}", e.what(), kept);
+    if (const auto* stopped = dynamic_cast<const HilInterrupted*>(&e)) throw HilInterrupted(message, stopped->signal());
+    throw std::runtime_error(message);
   }
   cleanup();
   detail::finish_recording(recorder,

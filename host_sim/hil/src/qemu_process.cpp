@@ -7,6 +7,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "lashid/hil/qemu_args.hpp"
+#include "stop_signals.hpp"
 
 extern char** environ;
 
@@ -72,7 +74,13 @@ std::string exit_words(int console) {
 // QEMU's own words, instead of after the whole wait.
 int accept_with_timeout(int listener, int console, int timeout_ms, const char* what) {
   pollfd p[2] = {{listener, POLLIN, 0}, {console, 0, 0}};
-  const int ready = ::poll(p, console >= 0 ? 2 : 1, timeout_ms);
+  int ready = 0;
+  // In steps of 20 ms, as the session's loop, so that a stop signal is seen (stop_signals.hpp).
+  for (int waited = 0; waited < timeout_ms && ready == 0; waited += 20) {
+    ready = ::poll(p, console >= 0 ? 2 : 1, std::min(20, timeout_ms - waited));
+    if (ready < 0 && errno == EINTR) ready = 0;
+    throw_if_stopped();
+  }
   if (ready > 0 && (p[0].revents & POLLIN) == 0 && (p[1].revents & (POLLHUP | POLLERR)) != 0) {
     throw std::runtime_error(
         fmt::format("hil: QEMU exited before it connected to the {} socket: {}", what, exit_words(console)));
@@ -151,6 +159,7 @@ int connect_with_timeout(const std::string& path, int timeout_ms) {
     ::close(fd);
     if (waited >= timeout_ms) fail_errno("cannot connect to " + path);
     ::usleep(50'000);
+    throw_if_stopped();
   }
 }
 

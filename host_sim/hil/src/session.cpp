@@ -22,6 +22,7 @@
 #include "lashid/hil/link_faults.hpp"
 #include "plant_peer.hpp"
 #include "reports.hpp"
+#include "stop_signals.hpp"
 
 namespace lashid::sim::detail {
 namespace {
@@ -93,6 +94,8 @@ class Session {
       const auto now = Clock::now();
       if (now > deadline) throw std::runtime_error(timeout_message(now));
       poll_once();
+      // Before QEMU's exit is looked at: a Ctrl-C reaches QEMU too, and the user's stop is the reason to report.
+      throw_if_stopped();
       if (qemu_ > 0 && exited()) return;
       if (closed_at_ && now - *closed_at_ > kExitAfterClose) {
         throw std::runtime_error(fmt::format("hil: QEMU closed {} but has not exited", closed_what_));

@@ -28,6 +28,12 @@ namespace lashid::hal::cortex_m {
 /// core the compiler targeted.
 const char* machine_name();
 const char* core_name();
+/// Names the QEMU machine in the image for the host tools: in a board's source, LASHID_CORTEX_M_MACHINE_TAG("name")
+/// puts "name" (NUL-terminated) in the section `.lashid.machine`, which is not loaded (no flash, no RAM; kept by the
+/// linker as a non-allocated orphan, like .comment). `lashid hil` reads it and refuses to boot the image on another
+/// machine, where it would only fault or hang until the time limit. An image without it is run as it is.
+#define LASHID_CORTEX_M_MACHINE_TAG(name) \
+  __asm__(".pushsection .lashid.machine,\"\",%progbits\n\t.asciz \"" name "\"\n\t.popsection")
 /// CPUID.PartNo expected on the machine the image was linked for (0xC23 Cortex-M3, 0xC24 M4, 0xC27 M7; defined by the
 /// board library) and the one the CPU reports: they differ when an image runs on the wrong -machine.
 std::uint32_t expected_cpu_part();

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -93,10 +94,23 @@ fw::RunDesign to_run_design(const ExperimentConfig& config, const RunLengths& le
 /// differ in length (the firmware has one L).
 fw::RunDesign run_design_of(const Scenario& scenario);
 
+/// run_hil stopped by SIGINT, SIGTERM or SIGHUP: QEMU was killed, the session's sockets removed, and the recording
+/// kept as after any early stop (marked partial; the message says where). signal(): the signal's number (the CLI
+/// exits with 128 + signal, as a shell reports a command a signal ended).
+class HilInterrupted : public std::runtime_error {
+ public:
+  HilInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
 /// Runs QEMU with the firmware, sends the design, and plays the scenario's plant (or options.plant_file's),
 /// recording the exchanged samples to options.record if set (also when the run stops early: the recording is then
 /// marked partial). Throws std::runtime_error when QEMU cannot be started, a socket fails, or the time limit is
-/// exceeded; std::invalid_argument when the design cannot be made (run_design_of).
+/// exceeded, or when the image names another machine than options.machine (its section .lashid.machine);
+/// std::invalid_argument when the design cannot be made (run_design_of); HilInterrupted on SIGINT, SIGTERM or SIGHUP.
 HilResult run_hil(const HilOptions& options);
 
 /// The firmware's board on the PC with the played plant in-process (a scenario's or a plant file's): the same plant

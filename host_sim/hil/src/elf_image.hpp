@@ -1,0 +1,18 @@
+// Private to the hil layer: the two facts `lashid hil` reads from a firmware image before it boots it in QEMU.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace lashid::sim::detail {
+
+/// Whether `path` is a 32-bit little-endian ELF for ARM (e_machine EM_ARM): QEMU would boot any other bytes into a
+/// lockup.
+bool is_arm_elf(const std::string& path);
+
+/// The QEMU machine the image was built for: the NUL-terminated name in its section `.lashid.machine`
+/// (LASHID_CORTEX_M_MACHINE_TAG, lashid/hal/cortex_m.hpp). std::nullopt when the image has no such section (an image
+/// from elsewhere: it is run as it is) or its section table cannot be read.
+std::optional<std::string> elf_machine_tag(const std::string& path);
+
+}  // namespace lashid::sim::detail
