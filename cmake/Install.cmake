@@ -2,7 +2,8 @@
 #   P/include/lashid/...                         the headers of the estimator, the HAL, the host board, the firmware
 #   P/lib/cmake/lashid/lashid{Config,ConfigVersion,Targets}.cmake
 #   P/bin/lashid                                  the command-line tool (host builds)
-#   P/share/doc/lashid/                           README, data formats, firmware and package docs, the paper notes
+#   P/share/doc/lashid/                           README, docs/, `copyright`, and tests/data/friction_damper/{README.md,
+#                                                 LICENSE} of the data that docs/friction-damper.png is drawn from
 # so that another project can write find_package(lashid 0.1 CONFIG REQUIRED) and link lashid::estimator (header-only,
 # heap-free, Eigen as its one dependency), lashid::hal, lashid::hal_host or lashid::firmware, on the host or in a
 # Cortex-M build with the same toolchain file. The host layers (lashid::io ... lashid::report) are the tool's
@@ -43,3 +44,10 @@ endif()
 install(FILES "${PROJECT_SOURCE_DIR}/README.md" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/docs/" DESTINATION "${CMAKE_INSTALL_DOCDIR}/docs"
         FILES_MATCHING PATTERN "*.md" PATTERN "*.png" PATTERN "*.json")
+# docs/friction-damper.png and .json are computed from the friction damper data (CC BY-SA 4.0): its README (the
+# attribution) and licence go with them, at their source path; the CSVs stay behind. `copyright` says which licence
+# covers what (the .deb's /usr/share/doc/lashid/copyright).
+install(FILES "${PROJECT_SOURCE_DIR}/tests/data/friction_damper/README.md"
+              "${PROJECT_SOURCE_DIR}/tests/data/friction_damper/LICENSE"
+        DESTINATION "${CMAKE_INSTALL_DOCDIR}/tests/data/friction_damper")
+install(FILES "${PROJECT_SOURCE_DIR}/cmake/copyright" DESTINATION "${CMAKE_INSTALL_DOCDIR}")

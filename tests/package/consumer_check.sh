@@ -12,7 +12,8 @@ cmake --install "${build}" --prefix "${prefix}" >"${work}/install.log"
 for f in bin/lashid include/lashid/estimator.hpp include/lashid/estimator/identifier.hpp \
          include/lashid/firmware/sequencer.hpp include/lashid/hal/board.hpp include/lashid/hal/host_board.hpp \
          lib/cmake/lashid/lashidConfig.cmake lib/cmake/lashid/lashidConfigVersion.cmake \
-         lib/cmake/lashid/lashidTargets.cmake share/doc/lashid/docs/package.md; do
+         lib/cmake/lashid/lashidTargets.cmake share/doc/lashid/docs/package.md share/doc/lashid/copyright \
+         share/doc/lashid/tests/data/friction_damper/README.md share/doc/lashid/tests/data/friction_damper/LICENSE; do
   [[ -e "${prefix}/${f}" ]] || { echo "consumer_check: ${f} not installed" >&2; exit 1; }
 done
 "${prefix}/bin/lashid" --help >/dev/null
