@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "lashid/sim/hidden_effect.hpp"
 
 namespace {
 
@@ -311,6 +312,9 @@ TEST_F(Cli, DiagnoseFindsAHiddenDeadTimeAndWritesTheJson) {
   EXPECT_NE(r.out.find("cause: dead_time"), std::string::npos) << r;
   const json j = json::parse(slurp(out));
   EXPECT_EQ(j.at("cause"), "dead_time");
+  // The delay the generator hid (the same case, drawn in-process from the same cause and seed).
+  EXPECT_EQ(j.at("parameters").at("delay").get<int>(),
+            lashid::sim::generate_hidden_effect_case(lashid::sim::Cause::kDeadTime, 11).effect.delay);
   for (const char* key : {"parameters", "fit_nominal", "fit_extended", "evidence", "models", "findings"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }

@@ -162,8 +162,12 @@ TEST_F(CliDesign, RefusesBadOptionsNamingTheRuleAndWritesNothing) {
   EXPECT_TRUE(Contains(fifth.err, "--n 5 --m 6: need n in [1, 4] and m in [1, 10]; nothing written")) << fifth;
   EXPECT_FALSE(fs::exists(work_ / "cfg.json"));
   // Writing needs the design; --check excludes it.
-  EXPECT_NE(design({"--n", "2", "--m", "6", "--operator", "switch", "--out", "cfg.json"}).exit_code, 0);
-  EXPECT_NE(design({"--check", config_with("n", 2), "--n", "2"}).exit_code, 0);
+  const Outcome no_interval = design({"--n", "2", "--m", "6", "--operator", "switch", "--out", "cfg.json"});
+  EXPECT_GE(no_interval.exit_code, 100) << no_interval;
+  EXPECT_TRUE(Contains(no_interval.err, "--v-min (or --check CONFIG) is required")) << no_interval;
+  const Outcome both = design({"--check", config_with("n", 2), "--n", "2"});
+  EXPECT_GE(both.exit_code, 100) << both;
+  EXPECT_TRUE(Contains(both.err, "--check excludes --n")) << both;
 }
 
 TEST_F(CliDesign, CheckNamesTheKeyAndRule) {

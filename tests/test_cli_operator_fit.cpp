@@ -198,9 +198,17 @@ TEST_F(OperatorFitCli, PlotsTheLoopsAsPng) {
 }
 
 TEST_F(OperatorFitCli, RejectsBadOptions) {
-  EXPECT_NE(run({"operator-fit", "--train", kTrain}).exit_code, 0);  // --test is required
-  EXPECT_NE(run({"operator-fit", "--train", kTrain, "--test", kTest1, "--decimate", "0"}).exit_code, 0);
-  EXPECT_NE(run({"operator-fit", "--train", "missing.csv", "--test", kTest1}).exit_code, 0);
+  // Refused by the command line (CLI11's codes, 100 and above; README), naming the option at fault.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> wrong{
+      {{"operator-fit", "--train", kTrain}, "--test is required"},
+      {{"operator-fit", "--train", kTrain, "--test", kTest1, "--decimate", "0"}, "--decimate: Value 0 not in range"},
+      {{"operator-fit", "--train", "missing.csv", "--test", kTest1}, "--train: File does not exist: missing.csv"},
+  };
+  for (const auto& [args, message] : wrong) {
+    const Outcome r = run(args);
+    EXPECT_GE(r.exit_code, 100) << r;
+    EXPECT_TRUE(Contains(r.err, message)) << r;
+  }
   const Outcome help = run({"operator-fit", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_TRUE(Contains(help.out, "--decimate"));

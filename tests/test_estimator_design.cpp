@@ -161,6 +161,4 @@ TEST(StepMean, SkipsTheFirstSampleAndIsExactForAConstant) {
   EXPECT_EQ(mean.add(7, std::nanf("")), Status::kNonFinite);
 }
 
-// The DPE model (3.3): during the pulse experiment u(t) = F(v(t)) exactly, with F the closed form of the example.
-
 }  // namespace

@@ -146,7 +146,21 @@ TEST(FirmwareOnHostBoard, RunsTheValidationPhaseAfterTheEstimates) {
   sim::ScenarioBoard plain = sim::make_scenario_board(s, 2);
   fw::IdentificationSequencer<sim::ScenarioBoard> reference(plain, fw::kAisPaperRun);
   ASSERT_EQ(reference.run(), fw::RunStatus::kOk);
-  EXPECT_EQ(reports_of(board).estimates[0].a, reports_of(plain).estimates[0].a);
+  const auto with_val = reports_of(board).estimates, without_val = reports_of(plain).estimates;
+  ASSERT_EQ(with_val.size(), 2U);
+  ASSERT_EQ(without_val.size(), 2U);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const fw::EstimateRecord &e = with_val[k], &r = without_val[k];
+    EXPECT_EQ(e.scheme, r.scheme) << k;
+    EXPECT_EQ(e.status, r.status) << k;
+    EXPECT_EQ(e.ybar0, r.ybar0) << k;
+    EXPECT_EQ(e.noise_variance, r.noise_variance) << k;
+    EXPECT_EQ(e.a, r.a) << k;
+    EXPECT_EQ(e.se_a, r.se_a) << k;
+    EXPECT_EQ(e.b, r.b) << k;
+    EXPECT_EQ(e.se_b, r.se_b) << k;
+    EXPECT_EQ(e.F, r.F) << k;
+  }
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 // Plant file JSON (docs/data-format.md, "Plant file"): every error names the file and the key; optional keys take
 // their documented defaults; unknown keys are listed, not refused; A must be stable.
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -187,7 +189,9 @@ TEST(PlantFile, SyntaxErrorsDuplicatesAndHugeNumbersAreDataErrors) {
 }
 
 TEST(PlantFile, ReadingAFileNamesIt) {
-  const auto path = std::filesystem::temp_directory_path() / "lashid_test_plant_file.json";
+  // The pid in the name: another build tree may run this test at the same time.
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("lashid_test_plant_file_" + std::to_string(::getpid()) + ".json");
   std::ofstream(path) << with(valid_document(), "/b", {1.0}).dump();
   EXPECT_TRUE(Contains(error_of([&] { read_plant_json(path); }), path.string() + ": 'a' and 'b'"));
   std::filesystem::remove(path);

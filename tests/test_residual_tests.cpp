@@ -355,10 +355,10 @@ TEST(Median, OddAndEvenSizes) {
   EXPECT_EQ(median(std::vector<double>{-1.0, 7.0}), 3.0);
   EXPECT_EQ(median(std::vector<double>{5.0}), 5.0);
   EXPECT_EQ(median(std::vector<double>{2.0, 9.0, 2.0, 1.0}), 2.0);
+  // An even count: the mean of the two middle values (median takes a span of const: the caller's order is kept by
+  // its type, nothing to test at run time).
   const std::vector<double> x{5.0, 3.0, 1.0, 4.0, 2.0, 6.0};
-  const std::vector<double> before = x;
   EXPECT_EQ(median(x), 3.5);
-  EXPECT_EQ(x, before);  // the caller's order is kept
 }
 
 TEST(Median, RejectsBadArguments) {

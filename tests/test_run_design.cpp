@@ -137,9 +137,13 @@ TEST(ValidationExcitation, VisitsTheLevelsWithStepsFromTheExtremesAndSmallRevers
     ++runs.back().second;
   }
   runs.pop_back();  // the last run is cut by the end of the phase
-  int shortest = 1 << 30;
-  for (const auto& r : runs) shortest = std::min(shortest, r.second);
+  int shortest = 1 << 30, longest = 0;
+  for (const auto& r : runs) {
+    shortest = std::min(shortest, r.second);
+    longest = std::max(longest, r.second);
+  }
   EXPECT_GE(shortest, fw::ValidationExcitation::kMinHold);
+  EXPECT_LE(longest, 2 * fw::ValidationExcitation::kMaxHold);
   // Small reversals a -> b -> a between neighbouring levels, up and down, and steps from both extremes.
   const auto index = [&](float x) {
     for (int i = 0; i < gen.level_count(); ++i) {
