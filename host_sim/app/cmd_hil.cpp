@@ -335,7 +335,14 @@ int run_hil_command(const HilArgs& args) {
   } catch (const std::exception& e) {
     // A command that ends in an error replaces an earlier --json too: a script that reads only the file must not
     // see an old pass.
-    if (!args.json_out.empty()) write_json_file(args.json_out, error_json(e.what()));
+    if (!args.json_out.empty()) {
+      try {
+        write_json_file(args.json_out, error_json(e.what()));
+      } catch (const std::exception& w) {
+        // The run's error stays the one reported; the file's failure is said beside it.
+        fmt::print(stderr, "lashid: note: {} could not be replaced by the error's JSON: {}\n", args.json_out, w.what());
+      }
+    }
     if (const auto* stopped = dynamic_cast<const HilInterrupted*>(&e)) {
       std::fflush(stdout);
       fmt::print(stderr, "lashid: error: {}\n", e.what());

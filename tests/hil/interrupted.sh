@@ -6,13 +6,8 @@
 # Usage: interrupted.sh LASHID FIRMWARE
 set -euo pipefail
 lashid=$1 firmware=$2
-dir=$(mktemp -d)
-hil_pid=
-cleanup() {
-  [[ -n "${hil_pid}" ]] && kill -KILL "${hil_pid}" 2>/dev/null || true
-  rm -rf "${dir}"
-}
-trap cleanup EXIT
+# shellcheck source=mid_run.sh
+source "$(dirname "${BASH_SOURCE[0]}")/mid_run.sh"
 
 # Starts hil in the background with its temporary directory in ${dir}/tmp, waits until the firmware has entered its
 # DP pulse experiment, sends SIGNAL (to hil, or with `group` to hil and its QEMU as a terminal's Ctrl-C does) and
@@ -25,13 +20,8 @@ interrupt() {
   TMPDIR="${tmp}" "${lashid}" hil --firmware "${firmware}" --scenario dis_paper --seed 11 --timeout 120 \
     --record "${record}" --json "${json}" >"${out}" 2>&1 &
   hil_pid=$!
-  local qemu=
-  for _ in $(seq 1 1200); do
-    qemu=$(pgrep -P "${hil_pid}" -f qemu-system-arm || true)
-    if [[ -n "${qemu}" ]] && grep -q 'DP pulse experiment' "${out}"; then break; fi
-    sleep 0.1
-  done
-  [[ -n "${qemu}" ]] || { echo "interrupted: QEMU did not start" >&2; cat "${out}"; exit 1; }
+  local qemu
+  qemu=$(wait_for_dp_pulse interrupted "${out}")
   [[ -n "$(ls -A "${tmp}")" ]] || { echo "interrupted: no session folder in TMPDIR (test is void)" >&2; exit 1; }
   if [[ "${target}" == group ]]; then kill "-${signal}" "${hil_pid}" "${qemu}"; else kill "-${signal}" "${hil_pid}"; fi
   local status=0

@@ -4,34 +4,18 @@
 # Usage: qemu_gone.sh LASHID FIRMWARE
 set -euo pipefail
 lashid=$1 firmware=$2
-dir=$(mktemp -d)
-hil_pid=
-cleanup() {
-  [[ -n "${hil_pid}" ]] && kill -KILL "${hil_pid}" 2>/dev/null || true
-  rm -rf "${dir}"
-}
-trap cleanup EXIT
+# shellcheck source=mid_run.sh
+source "$(dirname "${BASH_SOURCE[0]}")/mid_run.sh"
 
-# Starts hil in the background, waits until the firmware has entered its DP pulse experiment (over 2,000 samples
-# measured, printed by hil as progress), then sends SIGNAL to its QEMU.
+# Starts hil in the background, waits until the firmware has entered its DP pulse experiment, then sends SIGNAL to
+# its QEMU.
 run_and_signal() {
   local signal=$1 timeout=$2 out=$3 record=$4
   "${lashid}" hil --firmware "${firmware}" --scenario dis_paper --seed 11 --timeout "${timeout}" --record "${record}" \
     >"${out}" 2>&1 &
   hil_pid=$!
-  local qemu=
-  local started=
-  for _ in $(seq 1 1200); do
-    qemu=$(pgrep -P "${hil_pid}" -f qemu-system-arm || true)
-    if [[ -n "${qemu}" ]] && grep -q 'DP pulse experiment' "${out}"; then started=yes; break; fi
-    kill -0 "${hil_pid}" 2>/dev/null || break
-    sleep 0.1
-  done
-  if [[ -z "${started}" ]]; then
-    echo "qemu_gone: the firmware never reached its DP pulse experiment (the signal must come mid-run)" >&2
-    cat "${out}"
-    exit 1
-  fi
+  local qemu
+  qemu=$(wait_for_dp_pulse qemu_gone "${out}")
   kill "-${signal}" "${qemu}"
   local status=0
   wait "${hil_pid}" || status=$?
