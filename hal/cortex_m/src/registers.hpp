@@ -24,6 +24,17 @@ inline constexpr std::uintptr_t kMvfr0 = 0xE000'EF40;
 inline constexpr std::uint32_t kIcsrPendStSet = 1U << 26;
 inline constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFU << 20;
 
+// MPU (PMSAv7: ARMv7-M ARM B3.5)
+inline constexpr std::uintptr_t kMpuType = 0xE000'ED90;  // [15:8] DREGION: number of data regions (0: no MPU)
+inline constexpr std::uintptr_t kMpuCtrl = 0xE000'ED94;  // [0] ENABLE, [1] HFNMIENA, [2] PRIVDEFENA
+inline constexpr std::uintptr_t kMpuRnr = 0xE000'ED98;   // region number
+inline constexpr std::uintptr_t kMpuRbar = 0xE000'ED9C;  // [31:5] ADDR (aligned to the region's size)
+inline constexpr std::uintptr_t kMpuRasr = 0xE000'EDA0;  // [28] XN, [26:24] AP, [5:1] SIZE (2^(SIZE+1) B), [0] ENABLE
+inline constexpr std::uint32_t kMpuCtrlEnable = 1U << 0;
+inline constexpr std::uint32_t kMpuCtrlPrivDefEna = 1U << 2;
+inline constexpr std::uint32_t kMpuRasrXn = 1U << 28;
+inline constexpr std::uint32_t kMpuRasrEnable = 1U << 0;
+
 // SysTick
 inline constexpr std::uintptr_t kSystCsr = 0xE000'E010;  // [0] ENABLE, [1] TICKINT, [2] CLKSOURCE (1 = CPU), [16] COUNTFLAG
 inline constexpr std::uintptr_t kSystRvr = 0xE000'E014;

@@ -8,7 +8,7 @@
 // (malloc, operator new, stdio buffers) fails to link instead of silently getting one.
 //
 // Reset order: [asm] FPU access (CPACR CP10/CP11, DSB, ISB) -> SP -> paint the stack; [C++] copy .data, zero .bss,
-// VTOR, preinit/init arrays (static constructors), main(), finish(main's result).
+// VTOR, the stack guard (MPU), preinit/init arrays (static constructors), main(), finish(main's result).
 #include <cstddef>
 #include <cstdint>
 
@@ -17,6 +17,7 @@
 
 // Linker script symbols (hal/cortex_m/ld/cortex-m-sections.ld).
 extern "C" {
+extern std::uint32_t __stack_guard[];
 extern std::uint32_t __stack_limit[];
 extern std::uint32_t __stack_top[];
 extern std::uint32_t __data_start[];
@@ -116,6 +117,31 @@ extern "C" [[gnu::naked, noreturn]] void Reset_Handler() {
       ".ltorg\n\t");
 }
 
+namespace {
+
+// The MPU's region 0 over [__stack_guard, __stack_limit): no access, not executable; the default memory map
+// everywhere else (PRIVDEFENA: everything here runs privileged). A push into the guard is a MemManage fault, taken
+// as HardFault (MemManage is not enabled), whose handler sees the stack pointer below __stack_limit and reports the
+// overflow. HardFault runs with the MPU off (HFNMIENA = 0), so the handler itself is not stopped by the guard.
+// Without an MPU (MPU_TYPE.DREGION = 0) or with a guard the MPU cannot describe, nothing is set.
+void enable_stack_guard() {
+  using namespace lashid::hal::cortex_m::detail;
+  const auto base = reinterpret_cast<std::uintptr_t>(__stack_guard);
+  const std::uintptr_t size = reinterpret_cast<std::uintptr_t>(__stack_limit) - base;
+  if (((reg(kMpuType) >> 8) & 0xFFU) == 0U || size < 32U || (size & (size - 1U)) != 0U || (base & (size - 1U)) != 0U) {
+    return;
+  }
+  std::uint32_t size_field = 0;  // SIZE: the region is 2^(SIZE + 1) bytes
+  while ((std::uintptr_t{2} << size_field) < size) ++size_field;
+  reg(kMpuRnr) = 0U;
+  reg(kMpuRbar) = static_cast<std::uint32_t>(base);
+  reg(kMpuRasr) = kMpuRasrXn | (size_field << 1) | kMpuRasrEnable;  // AP = 000: no access, privileged or not
+  reg(kMpuCtrl) = kMpuCtrlPrivDefEna | kMpuCtrlEnable;
+  __asm__ volatile("dsb\n\tisb" ::: "memory");
+}
+
+}  // namespace
+
 extern "C" [[noreturn]] void lashid_cortex_m_start() {
   using namespace lashid::hal::cortex_m::detail;
   // .data from its load address in flash, .bss to zero. Word loops over linker-provided bounds.
@@ -124,6 +150,7 @@ extern "C" [[noreturn]] void lashid_cortex_m_start() {
   for (std::uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0U;
   reg(kVtor) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&lashid_cortex_m_vectors));
   __asm__ volatile("dsb\n\tisb" ::: "memory");
+  enable_stack_guard();
   for (const InitFunction* f = __preinit_array_start; f < __preinit_array_end; ++f) (*f)();
   for (const InitFunction* f = __init_array_start; f < __init_array_end; ++f) (*f)();
   lashid::hal::cortex_m::finish(lashid_cortex_m_application_main());
@@ -137,29 +164,50 @@ void say(const char* text) { lashid::hal::cortex_m::semihosting::write(text); }
 
 }  // namespace
 
-// Called by HardFault_Handler with the exception frame (r0-r3, r12, lr, pc, xPSR) of the faulting context.
+// Called by HardFault_Handler with the exception frame (r0-r3, r12, lr, pc, xPSR) of the faulting context, or with
+// nullptr when the stack had overflowed (the handler then runs on a fresh stack and the frame was never written).
 extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::uint32_t* frame) {
   using namespace lashid::hal::cortex_m;
   using namespace lashid::hal::cortex_m::detail;
-  Text<200> t;
-  t << "\nlashid: HardFault pc=";
-  t.hex(frame[6]) << " lr=";
-  t.hex(frame[5]) << " cfsr=";
-  t.hex(reg(kCfsr)) << " hfsr=";
-  t.hex(reg(kHfsr)) << " mmfar=";
-  t.hex(reg(kMmfar)) << " bfar=";
-  t.hex(reg(kBfar)) << "\n";
+  const std::uint32_t cfsr = reg(kCfsr);
+  Text<240> t;
+  if (frame == nullptr) {
+    t << "\nlashid: HardFault: stack overflow (the stack pointer went below __stack_limit, "
+      << static_cast<std::uint32_t>(stack_size_bytes()) << " bytes reserved) cfsr=";
+  } else {
+    t << "\nlashid: HardFault pc=";
+    t.hex(frame[6]) << " lr=";
+    t.hex(frame[5]) << " cfsr=";
+  }
+  t.hex(cfsr) << " hfsr=";
+  t.hex(reg(kHfsr));
+  // The fault address registers only where CFSR says they hold one (MMARVALID, BFARVALID).
+  if ((cfsr & (1U << 7)) != 0U) t << " mmfar=", t.hex(reg(kMmfar));
+  if ((cfsr & (1U << 15)) != 0U) t << " bfar=", t.hex(reg(kBfar));
+  t << "\n";
   say(t.c_str());
-  if ((reg(kCfsr) & (1U << 19)) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
-  semihosting::exit(kExitHardFault);
+  if ((cfsr & (1U << 19)) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
+  semihosting::exit(frame == nullptr ? kExitStackOverflow : kExitHardFault);
 }
 
+// The stack sits at the bottom of RAM: an overflow pushes below it, into memory that is not there (a BusFault,
+// escalated), and the frame of this exception could not be stacked either. The handler must then not touch that
+// stack: a fault inside HardFault is a lockup (ARMv7-M ARM, "Unrecoverable exception cases"; QEMU aborts). So before
+// anything is pushed, a frame pointer below __stack_limit moves MSP back to the top of the stack, and the report is
+// made there without a frame. Only MSP is used by this platform (no thread stack).
 extern "C" [[gnu::naked]] void HardFault_Handler() {
   __asm__ volatile(
       "tst lr, #4\n\t"  // EXC_RETURN bit 2: which stack holds the frame
       "ite eq\n\t"
       "mrseq r0, msp\n\t"
       "mrsne r0, psp\n\t"
+      "ldr r1, =__stack_limit\n\t"
+      "cmp r0, r1\n\t"
+      "bhs 1f\n\t"
+      "ldr r1, =__stack_top\n\t"
+      "msr msp, r1\n\t"
+      "movs r0, #0\n\t"
+      "1:\n\t"
       "b lashid_cortex_m_hard_fault\n\t");
 }
 
