@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -191,6 +192,41 @@ TEST(FirmwareOnHostBoard, ALinkThatKeepsFailingCostsLinkErrorsNotTheRun) {
                 static_cast<std::uint32_t>(fw::IdentificationSequencer<StuckLinkBoard>::kPollBudget));
 }
 
+// A command link whose UART loses bytes in an overrun and says so (kLinkError) where they went missing: the bytes
+// read are given in order, std::nullopt is the overrun.
+class OverrunLinkBoard : public sim::ScenarioBoard {
+ public:
+  explicit OverrunLinkBoard(sim::ScenarioBoard board) : sim::ScenarioBoard(std::move(board)) {}
+  std::deque<std::optional<std::uint8_t>> script;
+  hal::Status link_read(std::uint8_t& byte) {
+    if (script.empty()) return hal::Status::kWouldBlock;
+    const std::optional<std::uint8_t> next = script.front();
+    script.pop_front();
+    if (!next) return hal::Status::kLinkError;
+    byte = *next;
+    return hal::Status::kOk;
+  }
+};
+
+TEST(FirmwareOnHostBoard, AnOverrunCostsTheFrameItCutNotTheNext) {
+  // A query cut by an overrun after its length byte, then a whole query: the firmware must answer the second. Read
+  // on after the overrun, the cut frame would take the second's first bytes as its payload and checksum.
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  OverrunLinkBoard board(sim::make_scenario_board(s, 1));
+  static_assert(hal::Board<OverrunLinkBoard>);
+  fw::IdentificationSequencer<OverrunLinkBoard> firmware(board);
+  const auto query = command(hal::link::Command::kQuery);
+  ASSERT_GT(query.size(), 6u);  // sync, sync, type, seq, length, payload..., checksum
+  for (std::size_t i = 0; i < 5; ++i) board.script.emplace_back(query[i]);
+  board.script.emplace_back(std::nullopt);
+  for (std::uint8_t b : query) board.script.emplace_back(b);
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(firmware.step());
+  const auto frames = frames_of(board.link_output());
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, MessageType::kStatus);
+  EXPECT_EQ(firmware.cost().link_errors, 1u);
+}
+
 TEST(FirmwareMessages, RecordSizesAndNames) {
   // The size the sequencer's static_assert checks is the size encode() writes.
   fw::EstimateRecord e;
@@ -210,6 +246,21 @@ TEST(FirmwareMessages, RecordSizesAndNames) {
   hal::link::PayloadWriter c;
   fw::CostRecord{}.encode(c);
   EXPECT_EQ(c.size(), fw::CostRecord::kEncodedSize);
+  // The cycle totals are 64-bit on the wire: 2^28 samples at ~300 cycles each (8.1e10) do not fit 32 bits.
+  fw::CostRecord long_run;
+  long_run.update_cycles = (std::uint64_t{1} << 28) * 300U;
+  long_run.solve_cycles = std::uint64_t{0xFFFF'FFFF} + 2U;
+  long_run.updates = 1U << 28;
+  long_run.bad_sensor_values = 9;
+  hal::link::PayloadWriter lw;
+  long_run.encode(lw);
+  ASSERT_TRUE(lw.ok());
+  fw::CostRecord decoded;
+  ASSERT_TRUE(decoded.decode(hal::link::PayloadReader(lw.data(), lw.size())));
+  EXPECT_EQ(decoded.update_cycles, 80'530'636'800U);
+  EXPECT_EQ(decoded.solve_cycles, 4'294'967'297U);
+  EXPECT_EQ(decoded.updates, 1U << 28);
+  EXPECT_EQ(decoded.bad_sensor_values, 9U);
   hal::link::PayloadWriter x;
   fw::CrossCheckRecord{}.encode(x);
   EXPECT_EQ(x.size(), fw::CrossCheckRecord::kEncodedSize);

@@ -244,4 +244,21 @@ TEST(FrameDecoder, AGarbledLengthBeyondTheLinksLargestPayloadCostsOneFrame) {
   EXPECT_LT(frames_with(hal::link::FrameDecoder{}), 8);
 }
 
+TEST(FrameDecoder, AFrameCutAfterItsHeaderLosesOnlyItself) {
+  // A frame cut after its sequence byte: the next frame's first sync byte (0xA5 = 165, more than any payload the
+  // link carries) arrives where the length is expected. It is the start of that frame, which must still be read.
+  hal::link::PayloadWriter w;
+  w.u32(7);
+  std::vector<std::uint8_t> frame(hal::link::kMaxFrame);
+  frame.resize(hal::link::encode_frame(MessageType::kStatus, 3, w.data(), w.size(), frame.data()));
+  std::vector<std::uint8_t> stream(frame.begin(), frame.begin() + 4);  // sync, sync, type, seq
+  stream.insert(stream.end(), frame.begin(), frame.end());
+  hal::link::FrameDecoder d;
+  int frames = 0;
+  for (std::uint8_t x : stream) frames += d.push(x) == hal::link::FrameDecoder::Result::kFrame;
+  EXPECT_EQ(frames, 1);
+  EXPECT_EQ(d.length_errors(), 1u);
+  EXPECT_EQ(d.frame().seq, 3);
+}
+
 }  // namespace

@@ -155,10 +155,12 @@ struct CrossCheckRecord {
 
 /// Footprint and cost (kCost), in board cycles (SysTick on Cortex-M), and what went wrong without ending the run.
 struct CostRecord {
-  static constexpr std::size_t kEncodedSize = 11 * 4;
-  std::uint32_t update_cycles = 0;  ///< total over all estimator updates (add_pulse_sample)
+  static constexpr std::size_t kEncodedSize = 2 * 8 + 9 * 4;
+  /// Total over all estimator updates (add_pulse_sample). 64 bits: at ~300 cycles per update a 32-bit total wraps
+  /// after ~14 million samples, and a run may have up to 2^28 per pulse experiment (kPulseTooLong).
+  std::uint64_t update_cycles = 0;
   std::uint32_t updates = 0;
-  std::uint32_t solve_cycles = 0;   ///< total over all estimate() calls (once per pulse period)
+  std::uint64_t solve_cycles = 0;   ///< total over all estimate() calls (once per pulse period); 64 bits as above
   std::uint32_t solves = 0;
   std::uint32_t samples = 0;        ///< samples exchanged with the plant
   std::uint32_t link_errors = 0;    ///< frames dropped (checksum/length) or stale, on either port
@@ -175,13 +177,19 @@ struct CostRecord {
   std::uint32_t bad_sensor_values = 0;
 
   void encode(hal::link::PayloadWriter& w) const {
-    for (std::uint32_t x : {update_cycles, updates, solve_cycles, solves, samples, link_errors, retries, stack_bytes,
-                            rejected_samples, send_failures, bad_sensor_values})
+    w.u64(update_cycles);
+    w.u32(updates);
+    w.u64(solve_cycles);
+    for (std::uint32_t x : {solves, samples, link_errors, retries, stack_bytes, rejected_samples, send_failures,
+                            bad_sensor_values})
       w.u32(x);
   }
   bool decode(hal::link::PayloadReader r) {
-    for (std::uint32_t* x : {&update_cycles, &updates, &solve_cycles, &solves, &samples, &link_errors, &retries,
-                             &stack_bytes, &rejected_samples, &send_failures, &bad_sensor_values})
+    update_cycles = r.u64();
+    updates = r.u32();
+    solve_cycles = r.u64();
+    for (std::uint32_t* x : {&solves, &samples, &link_errors, &retries, &stack_bytes, &rejected_samples,
+                             &send_failures, &bad_sensor_values})
       *x = r.u32();
     return r.ok() && r.at_end();
   }

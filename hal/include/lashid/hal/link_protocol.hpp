@@ -76,6 +76,10 @@ class PayloadWriter {
   void u32(std::uint32_t x) {
     for (int shift = 0; shift < 32; shift += 8) put(static_cast<std::uint8_t>(x >> shift));
   }
+  void u64(std::uint64_t x) {
+    u32(static_cast<std::uint32_t>(x));
+    u32(static_cast<std::uint32_t>(x >> 32));
+  }
   void f32(float x) { u32(std::bit_cast<std::uint32_t>(x)); }
   bool ok() const { return ok_; }
   std::size_t size() const { return size_; }
@@ -107,6 +111,10 @@ class PayloadReader {
     std::uint32_t x = 0;
     for (int shift = 0; shift < 32; shift += 8) x |= static_cast<std::uint32_t>(get()) << shift;
     return x;
+  }
+  std::uint64_t u64() {
+    const std::uint64_t lo = u32();
+    return lo | (static_cast<std::uint64_t>(u32()) << 32);
   }
   float f32() { return std::bit_cast<float>(u32()); }
   bool ok() const { return ok_; }
@@ -188,7 +196,9 @@ class FrameDecoder {
       case State::kLength:
         if (byte > max_payload_) {
           ++length_errors_;
-          state_ = State::kHunt0;
+          // A frame cut short after its header puts the next frame's first sync byte (0xA5, never a valid length
+          // of the link's payloads) here: it is kept as the start of that frame, which is then not lost as well.
+          state_ = byte == kSync0 ? State::kHunt1 : State::kHunt0;
           return Result::kDropped;
         }
         frame_.size = byte;
