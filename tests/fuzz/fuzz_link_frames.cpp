@@ -1,6 +1,9 @@
 // libFuzzer target: the host's side of the link (untrusted bytes from a UART): the frame decoder, and every report
 // record's decoder on each frame's payload, as `lashid hil` decodes them (firmware/messages.hpp). Nothing may crash;
-// a decoded estimate must have n, m within the records' capacity.
+// a decoded estimate must have n, m within the records' capacity. The record decoders also get the input's first
+// bytes directly as a payload: through the frame decoder only inputs with a matching CRC reach them, and a long run
+// then explored no record shape but the seeds' (n = 2, m = 6; docs/reliability.md).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -9,21 +12,30 @@
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/link_protocol.hpp"
 
+namespace {
+
+namespace fw = lashid::fw;
+
+void decode_records(const lashid::hal::link::PayloadReader& payload) {
+  fw::EstimateRecord e;
+  if (e.decode(payload) && (e.n > fw::kMaxRecordOrder || e.m > fw::kMaxRecordPoints)) std::abort();
+  fw::CrossCheckRecord c;
+  (void)c.decode(payload);
+  fw::CostRecord k;
+  (void)k.decode(payload);
+  fw::RunDesign d;
+  if (d.decode(payload) == fw::DesignStatus::kOk && d.m > fw::kMaxPoints) std::abort();
+  (void)fw::check_design(d);
+}
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  namespace fw = lashid::fw;
+  decode_records(lashid::hal::link::PayloadReader(data, std::min(size, lashid::hal::link::kMaxPayload)));
   lashid::hal::link::FrameDecoder decoder;
   for (std::size_t i = 0; i < size; ++i) {
     if (decoder.push(data[i]) != lashid::hal::link::FrameDecoder::Result::kFrame) continue;
-    const lashid::hal::link::Frame& f = decoder.frame();
-    fw::EstimateRecord e;
-    if (e.decode(f.reader()) && (e.n > fw::kMaxRecordOrder || e.m > fw::kMaxRecordPoints)) std::abort();
-    fw::CrossCheckRecord c;
-    (void)c.decode(f.reader());
-    fw::CostRecord k;
-    (void)k.decode(f.reader());
-    fw::RunDesign d;
-    if (d.decode(f.reader()) == fw::DesignStatus::kOk && d.m > fw::kMaxPoints) std::abort();
-    (void)fw::check_design(d);
+    decode_records(decoder.frame().reader());
   }
   return 0;
 }
