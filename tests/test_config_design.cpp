@@ -127,6 +127,16 @@ TEST(ConfigDesign, LevelsTooCloseInFloat32AreNamedByKey) {
   EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kLevelsTooClose);
   EXPECT_TRUE(Contains(design_status_message(fw::DesignStatus::kLevelsTooClose, d),
                        "'V_a': two levels, or a level and the held level v_min, are closer than"));
+
+  // Near float32's range the same test fails because a step overflows: -3e38 - 3e38 = -6e38 > FLT_MAX (3.4e38).
+  config.v_min = -3e38;
+  config.v_max = 3e38;
+  config.V_d = {-3e38, 0, 1e38};
+  config.V_a = {3e38, 0, -1e38};
+  d = as_is(config);
+  EXPECT_EQ(fw::check_design(d), fw::DesignStatus::kLevelsTooClose);
+  EXPECT_TRUE(Contains(design_status_message(fw::DesignStatus::kLevelsTooClose, d),
+                       "'V_d[0]' = -3e+38 minus the held level 'v_max' = 3e+38 overflows float32"));
 }
 
 TEST(ConfigDesign, LengthStatusesNameTheirKeys) {

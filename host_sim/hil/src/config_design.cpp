@@ -148,6 +148,16 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
     case S::kLevelsTooClose: {
       // The firmware's own test, applied to one scheme at a time to name the key.
       const bool d_distinct = est::levels_resolvable(d.V_d.data(), d.m, d.v_max);
+      const auto& V = d_distinct ? d.V_a : d.V_d;
+      const float held = d_distinct ? d.v_min : d.v_max;
+      for (int j = 0; j < d.m; ++j) {
+        // Near float32's range the same test fails for the opposite reason: a step V_j - held overflows.
+        if (!std::isfinite(level(V, j) - held)) {
+          return fmt::format("'{}[{}]' = {} minus the held level '{}' = {} overflows float32: the interval is too "
+                             "wide for the firmware (|V_j - held| must stay below 3.4e38)",
+                             d_distinct ? "V_a" : "V_d", j, level(V, j), d_distinct ? "v_min" : "v_max", held);
+        }
+      }
       return fmt::format("'{}': two levels, or a level and the held level {}, are closer than the firmware's float32 "
                          "classifier resolves (2 x 64 eps of the largest |V_j - held|); it could not tell them apart",
                          d_distinct ? "V_a" : "V_d", d_distinct ? "v_min" : "v_max");

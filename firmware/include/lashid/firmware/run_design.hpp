@@ -52,7 +52,8 @@ enum class [[nodiscard]] DesignStatus : std::uint8_t {
   kVaFirstNotVMax,      ///< (4.2): V_1^a must equal v_M
   kVaNotDecreasing,     ///< (4.2): V_1^a > V_2^a > ... > V_m^a
   kVaNotAboveVMin,      ///< (4.2): V_m^a > v_m
-  kLevelsTooClose,      ///< two pulse levels (or a level and the held one) closer than float32 can tell apart
+  kLevelsTooClose,      ///< two pulse levels (or a level and the held one) closer than float32 can tell apart, or
+                        ///< a level so far from the held one that the step overflows float32
   kStepTooShort,        ///< L <= n: the step experiment's mean (3.7) needs L > n
   kPulseDTooShort,      ///< N of the DP experiment < two pulse periods 2T, T = s (m + 3) (Theorem 3.1)
   kPulseATooShort,      ///< N of the AP experiment < 2T
@@ -78,7 +79,8 @@ constexpr const char* to_string(DesignStatus s) {
     case DesignStatus::kVaFirstNotVMax: return "(4.2): V_a[0] must equal v_max";
     case DesignStatus::kVaNotDecreasing: return "(4.2): V_a must be strictly decreasing";
     case DesignStatus::kVaNotAboveVMin: return "(4.2): the last V_a must be above v_min";
-    case DesignStatus::kLevelsTooClose: return "two levels closer than float32 resolves (64 eps of the largest step)";
+    case DesignStatus::kLevelsTooClose:
+      return "two levels closer than float32 resolves (64 eps of the largest step), or a step that overflows float32";
     case DesignStatus::kStepTooShort: return "step_length must exceed n (3.7)";
     case DesignStatus::kPulseDTooShort: return "pulse_length_d shorter than two pulse periods (Theorem 3.1)";
     case DesignStatus::kPulseATooShort: return "pulse_length_a shorter than two pulse periods (Theorem 3.1)";
