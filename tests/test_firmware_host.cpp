@@ -4,15 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <memory>
-#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "lashid/firmware/paper_run_designs.hpp"
 #include "lashid/firmware/sequencer.hpp"
-#include "lashid/hal/remote_plant_port.hpp"
 #include "lashid/hil/hil.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/sim/scenario.hpp"
@@ -167,66 +164,6 @@ TEST(FirmwareOnHostBoard, CountsTheSamplesTheEstimatorRejects) {
   EXPECT_EQ(reports_of(board).cost.bad_sensor_values, 3u);
 }
 
-// A link whose driver keeps reporting an error (a sticky overrun flag that is never cleared): the firmware counts
-// the errors and still runs every sample (it used to loop in its poll of the link forever).
-class StuckLinkBoard : public sim::ScenarioBoard {
- public:
-  explicit StuckLinkBoard(sim::ScenarioBoard board) : sim::ScenarioBoard(std::move(board)) {}
-  hal::Status link_read(std::uint8_t&) { return hal::Status::kLinkError; }
-};
-
-TEST(FirmwareOnHostBoard, ALinkThatKeepsFailingCostsLinkErrorsNotTheRun) {
-  const sim::Scenario& s = sim::find_scenario("ais_paper");
-  StuckLinkBoard board(sim::make_scenario_board(s, 7));
-  static_assert(hal::Board<StuckLinkBoard>);
-  fw::IdentificationSequencer<StuckLinkBoard> firmware(board, fw::kAisPaperRun);
-  EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);
-  // Every sample of the run on a working link.
-  sim::ScenarioBoard working = sim::make_scenario_board(s, 7);
-  fw::IdentificationSequencer<sim::ScenarioBoard> reference(working, fw::kAisPaperRun);
-  ASSERT_EQ(reference.run(), fw::RunStatus::kOk);
-  EXPECT_EQ(board.exchanges().size(), working.exchanges().size());
-  // One budget of errors per poll, at least one poll per sample.
-  EXPECT_GE(firmware.cost().link_errors,
-            static_cast<std::uint32_t>(board.exchanges().size()) *
-                static_cast<std::uint32_t>(fw::IdentificationSequencer<StuckLinkBoard>::kPollBudget));
-}
-
-// A command link whose UART loses bytes in an overrun and says so (kLinkError) where they went missing: the bytes
-// read are given in order, std::nullopt is the overrun.
-class OverrunLinkBoard : public sim::ScenarioBoard {
- public:
-  explicit OverrunLinkBoard(sim::ScenarioBoard board) : sim::ScenarioBoard(std::move(board)) {}
-  std::deque<std::optional<std::uint8_t>> script;
-  hal::Status link_read(std::uint8_t& byte) {
-    if (script.empty()) return hal::Status::kWouldBlock;
-    const std::optional<std::uint8_t> next = script.front();
-    script.pop_front();
-    if (!next) return hal::Status::kLinkError;
-    byte = *next;
-    return hal::Status::kOk;
-  }
-};
-
-TEST(FirmwareOnHostBoard, AnOverrunCostsTheFrameItCutNotTheNext) {
-  // A query cut by an overrun after its length byte, then a whole query: the firmware must answer the second. Read
-  // on after the overrun, the cut frame would take the second's first bytes as its payload and checksum.
-  const sim::Scenario& s = sim::find_scenario("ais_paper");
-  OverrunLinkBoard board(sim::make_scenario_board(s, 1));
-  static_assert(hal::Board<OverrunLinkBoard>);
-  fw::IdentificationSequencer<OverrunLinkBoard> firmware(board);
-  const auto query = command(hal::link::Command::kQuery);
-  ASSERT_GT(query.size(), 6u);  // sync, sync, type, seq, length, payload..., checksum
-  for (std::size_t i = 0; i < 5; ++i) board.script.emplace_back(query[i]);
-  board.script.emplace_back(std::nullopt);
-  for (std::uint8_t b : query) board.script.emplace_back(b);
-  for (int i = 0; i < 10; ++i) ASSERT_TRUE(firmware.step());
-  const auto frames = frames_of(board.link_output());
-  ASSERT_EQ(frames.size(), 1u);
-  EXPECT_EQ(frames[0].type, MessageType::kStatus);
-  EXPECT_EQ(firmware.cost().link_errors, 1u);
-}
-
 TEST(FirmwareMessages, RecordSizesAndNames) {
   // The size the sequencer's static_assert checks is the size encode() writes.
   fw::EstimateRecord e;
@@ -310,133 +247,6 @@ TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
   EXPECT_EQ(firmware.run(), fw::RunStatus::kStopped);
   EXPECT_LT(board.exchanges().size(), 600u);
   EXPECT_EQ(reports_of(board).done, static_cast<int>(fw::RunStatus::kStopped));
-}
-
-// A byte channel with a peer that answers kActuate(t, v) by kMeasurement(t, 2v + t), damaging some answers.
-class FaultyPeerChannel {
- public:
-  enum class Fault { kNone, kCorrupt, kDrop, kStaleThenGood, kTruncate };
-  explicit FaultyPeerChannel(std::vector<Fault> faults) : faults_(std::move(faults)) {}
-
-  hal::Status write(const std::uint8_t* data, std::size_t size) {
-    for (std::size_t i = 0; i < size; ++i) {
-      if (decoder_.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
-      auto r = decoder_.frame().reader();
-      const std::uint32_t t = r.u32();
-      const float v = r.f32();
-      const Fault fault = requests_ < faults_.size() ? faults_[requests_] : Fault::kNone;
-      ++requests_;
-      if (fault == Fault::kDrop) continue;
-      if (fault == Fault::kStaleThenGood) answer(t - 1, 99.0f, false);
-      answer(t, 2 * v + static_cast<float>(t), fault == Fault::kCorrupt);
-    }
-    return hal::Status::kOk;
-  }
-  hal::Status read(std::uint8_t& byte) {
-    ++clock_;
-    if (pending_.empty()) return hal::Status::kWouldBlock;
-    byte = pending_.front();
-    pending_.pop_front();
-    return hal::Status::kOk;
-  }
-  std::uint32_t cycles() const { return clock_; }
-
- private:
-  void answer(std::uint32_t t, float y, bool corrupt) {
-    hal::link::PayloadWriter w;
-    w.u32(t);
-    w.f32(y);
-    std::uint8_t frame[hal::link::kMaxFrame];
-    const std::size_t n = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
-    if (corrupt) frame[7] ^= 0x10;  // one bit of y
-    // kTruncate: the answer loses its last byte on the line.
-    const std::size_t delivered = requests_ <= faults_.size() && faults_[requests_ - 1] == Fault::kTruncate ? n - 1 : n;
-    pending_.insert(pending_.end(), frame, frame + delivered);
-  }
-  std::vector<Fault> faults_;
-  std::size_t requests_ = 0;
-  hal::link::FrameDecoder decoder_;
-  std::deque<std::uint8_t> pending_;
-  std::uint32_t clock_ = 0;
-};
-
-TEST(RemotePlantPort, DetectsCountsAndRecoversFromDamagedLostAndStaleFrames) {
-  using F = FaultyPeerChannel::Fault;
-  // Request 0 ok; request 1 corrupted (then resent ok); request 3 dropped (timeout, resent); request 5 preceded
-  // by a stale answer for t - 1.
-  FaultyPeerChannel channel({F::kNone, F::kCorrupt, F::kNone, F::kDrop, F::kNone, F::kStaleThenGood});
-  static_assert(hal::ByteChannel<FaultyPeerChannel>);
-  hal::RemotePlantPort<FaultyPeerChannel> port(channel, /*timeout_cycles=*/1000, /*max_retries=*/2);
-  for (std::uint32_t t = 0; t < 4; ++t) {
-    const float v = 0.5f * static_cast<float>(t);
-    ASSERT_EQ(port.actuate(v), hal::Status::kOk);
-    float y = -1;
-    ASSERT_EQ(port.measure(y), hal::Status::kOk) << "t = " << t;
-    EXPECT_EQ(y, 2 * v + static_cast<float>(t)) << "t = " << t;  // never the corrupted or stale value
-  }
-  EXPECT_EQ(port.retries(), 2u);  // the corrupted and the dropped answer
-  EXPECT_EQ(port.errors(), 2u);   // one checksum failure, one stale answer
-}
-
-TEST(RemotePlantPort, GivesUpWithASensorFaultAfterTheRetries) {
-  using F = FaultyPeerChannel::Fault;
-  FaultyPeerChannel channel({F::kDrop, F::kDrop, F::kDrop});
-  hal::RemotePlantPort<FaultyPeerChannel> port(channel, 100, 2);
-  ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
-  float y = 42;
-  EXPECT_EQ(port.measure(y), hal::Status::kSensorFault);
-  EXPECT_EQ(y, 42);  // untouched
-  EXPECT_EQ(port.retries(), 2u);
-  // The channel's clock ticks once per read: the waits were 100, then doubled twice, 100 (2^3 - 1) in all.
-  EXPECT_EQ(channel.cycles(), 100u * (1 + 2 + 4));
-}
-
-TEST(RemotePlantPort, AnAnswerCutShortCostsOneRepetitionNotTwo) {
-  using F = FaultyPeerChannel::Fault;
-  // Answer 0 loses its last byte. Kept open in the decoder, it would take the first byte of the repeated answer as
-  // its checksum (a second loss); abandoned when the answer is overdue, the repetition is read whole.
-  FaultyPeerChannel channel({F::kTruncate});
-  hal::RemotePlantPort<FaultyPeerChannel> port(channel, 100, 3);
-  ASSERT_EQ(port.actuate(1.5f), hal::Status::kOk);
-  float y = 0;
-  ASSERT_EQ(port.measure(y), hal::Status::kOk);
-  EXPECT_EQ(y, 3.0f);  // 2 v + t, t = 0
-  EXPECT_EQ(port.retries(), 1u);
-  EXPECT_EQ(port.errors(), 1u);  // the frame cut short
-}
-
-TEST(RemotePlantPort, ANonFiniteMeasurementIsTheSensorsFaultNotTheLinks) {
-  // A verified answer carrying NaN: kOutOfRange with the value, no repetition (asking again gives the same value).
-  struct NanPeer {
-    hal::Status write(const std::uint8_t* data, std::size_t size) {
-      for (std::size_t i = 0; i < size; ++i) {
-        if (decoder.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
-        hal::link::PayloadWriter w;
-        w.u32(decoder.frame().reader().u32());
-        w.f32(std::nanf(""));
-        std::uint8_t frame[hal::link::kMaxFrame];
-        const std::size_t n = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
-        pending.insert(pending.end(), frame, frame + n);
-      }
-      return hal::Status::kOk;
-    }
-    hal::Status read(std::uint8_t& byte) {
-      if (pending.empty()) return hal::Status::kWouldBlock;
-      byte = pending.front();
-      pending.pop_front();
-      return hal::Status::kOk;
-    }
-    std::uint32_t cycles() const { return 0; }
-    hal::link::FrameDecoder decoder;
-    std::deque<std::uint8_t> pending;
-  } peer;
-  hal::RemotePlantPort<NanPeer> port(peer, 100, 3);
-  ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
-  float y = 0;
-  EXPECT_EQ(port.measure(y), hal::Status::kOutOfRange);
-  EXPECT_TRUE(std::isnan(y));
-  EXPECT_EQ(port.retries(), 0u);
-  EXPECT_EQ(port.next_sample(), 1u);
 }
 
 }  // namespace

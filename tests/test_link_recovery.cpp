@@ -1,12 +1,15 @@
 // What keeps a run right on a link that loses bytes (issue 14): the firmware holds its reports after the run and
 // sends them again on request until the host has them all; bad sensor values are counted and never estimated from;
-// the host's fault injection draws what it says it draws. Expected numbers come from the protocol's definitions and
+// a command link that keeps failing or overruns costs link errors and the cut frame only; the frame decoder loses
+// no more than the frame that was damaged; the host's fault injection draws what it says it draws. Expected numbers come from the protocol's definitions and
 // the board's own exchange log, not from the code under test.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
+#include <optional>
 #include <vector>
 
 #include "lashid/firmware/paper_run_designs.hpp"
@@ -198,6 +201,66 @@ TEST(ByteFaults, TheSameSeedGivesTheSameFaultsAndTheDirectionsDiffer) {
   EXPECT_NE(faulty(5, 2), faulty(6, 2));
   EXPECT_THROW(sim::ByteFaults(-0.1, 1, 0), std::invalid_argument);
   EXPECT_THROW(sim::ByteFaults(std::nan(""), 1, 0), std::invalid_argument);
+}
+
+// A link whose driver keeps reporting an error (a sticky overrun flag that is never cleared): the firmware counts
+// the errors and still runs every sample (it used to loop in its poll of the link forever).
+class StuckLinkBoard : public sim::ScenarioBoard {
+ public:
+  explicit StuckLinkBoard(sim::ScenarioBoard board) : sim::ScenarioBoard(std::move(board)) {}
+  hal::Status link_read(std::uint8_t&) { return hal::Status::kLinkError; }
+};
+
+TEST(FirmwareOnHostBoard, ALinkThatKeepsFailingCostsLinkErrorsNotTheRun) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  StuckLinkBoard board(sim::make_scenario_board(s, 7));
+  static_assert(hal::Board<StuckLinkBoard>);
+  fw::IdentificationSequencer<StuckLinkBoard> firmware(board, fw::kAisPaperRun);
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);
+  // Every sample of the run on a working link.
+  sim::ScenarioBoard working = sim::make_scenario_board(s, 7);
+  fw::IdentificationSequencer<sim::ScenarioBoard> reference(working, fw::kAisPaperRun);
+  ASSERT_EQ(reference.run(), fw::RunStatus::kOk);
+  EXPECT_EQ(board.exchanges().size(), working.exchanges().size());
+  // One budget of errors per poll, at least one poll per sample.
+  EXPECT_GE(firmware.cost().link_errors,
+            static_cast<std::uint32_t>(board.exchanges().size()) *
+                static_cast<std::uint32_t>(fw::IdentificationSequencer<StuckLinkBoard>::kPollBudget));
+}
+
+// A command link whose UART loses bytes in an overrun and says so (kLinkError) where they went missing: the bytes
+// read are given in order, std::nullopt is the overrun.
+class OverrunLinkBoard : public sim::ScenarioBoard {
+ public:
+  explicit OverrunLinkBoard(sim::ScenarioBoard board) : sim::ScenarioBoard(std::move(board)) {}
+  std::deque<std::optional<std::uint8_t>> script;
+  hal::Status link_read(std::uint8_t& byte) {
+    if (script.empty()) return hal::Status::kWouldBlock;
+    const std::optional<std::uint8_t> next = script.front();
+    script.pop_front();
+    if (!next) return hal::Status::kLinkError;
+    byte = *next;
+    return hal::Status::kOk;
+  }
+};
+
+TEST(FirmwareOnHostBoard, AnOverrunCostsTheFrameItCutNotTheNext) {
+  // A query cut by an overrun after its length byte, then a whole query: the firmware must answer the second. Read
+  // on after the overrun, the cut frame would take the second's first bytes as its payload and checksum.
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  OverrunLinkBoard board(sim::make_scenario_board(s, 1));
+  static_assert(hal::Board<OverrunLinkBoard>);
+  fw::IdentificationSequencer<OverrunLinkBoard> firmware(board);
+  const auto query = command(hal::link::Command::kQuery);
+  ASSERT_GT(query.size(), 6u);  // sync, sync, type, seq, length, payload..., checksum
+  for (std::size_t i = 0; i < 5; ++i) board.script.emplace_back(query[i]);
+  board.script.emplace_back(std::nullopt);
+  for (std::uint8_t b : query) board.script.emplace_back(b);
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(firmware.step());
+  const auto frames = frames_of(board.link_output());
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, MessageType::kStatus);
+  EXPECT_EQ(firmware.cost().link_errors, 1u);
 }
 
 TEST(FrameDecoder, AFrameCutShortIsAbandonedSoTheNextIsRead) {

@@ -343,11 +343,6 @@ int run_hil_command(const HilArgs& args) {
         fmt::print(stderr, "lashid: note: {} could not be replaced by the error's JSON: {}\n", args.json_out, w.what());
       }
     }
-    if (const auto* stopped = dynamic_cast<const HilInterrupted*>(&e)) {
-      std::fflush(stdout);
-      fmt::print(stderr, "lashid: error: {}\n", e.what());
-      return 128 + stopped->signal();
-    }
     throw;
   }
 }

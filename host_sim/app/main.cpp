@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "lashid/hil/hil.hpp"
 #include "output_paths.hpp"
 
 using namespace lashid::app;
@@ -362,6 +363,11 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "lashid: error: out of memory: the input asks for more than this machine holds (a config's "
                        "lengths, e.g. val_length, or a recording's size)\n");
     return 1;
+  } catch (const lashid::sim::HilInterrupted& e) {
+    // A hil run the user stopped, cleaned up: 128 + the signal, as a shell reports a command a signal ended.
+    std::fflush(stdout);
+    fmt::print(stderr, "lashid: error: {}\n", e.what());
+    return 128 + e.signal();
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());

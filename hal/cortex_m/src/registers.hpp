@@ -22,6 +22,9 @@ inline constexpr std::uintptr_t kBfar = 0xE000'ED38;
 inline constexpr std::uintptr_t kCpacr = 0xE000'ED88;  // [23:20] CP11, CP10 access
 inline constexpr std::uintptr_t kMvfr0 = 0xE000'EF40;
 inline constexpr std::uint32_t kIcsrPendStSet = 1U << 26;
+inline constexpr std::uint32_t kCfsrMmarValid = 1U << 7;   // MMFAR holds the MemManage fault's address
+inline constexpr std::uint32_t kCfsrBfarValid = 1U << 15;  // BFAR holds the BusFault's address
+inline constexpr std::uint32_t kCfsrNoCp = 1U << 19;       // UsageFault NOCP: a coprocessor (FPU) access while disabled
 inline constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFU << 20;
 
 // MPU (PMSAv7: ARMv7-M ARM B3.5)

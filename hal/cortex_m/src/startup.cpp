@@ -181,12 +181,18 @@ extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::ui
   }
   t.hex(cfsr) << " hfsr=";
   t.hex(reg(kHfsr));
-  // The fault address registers only where CFSR says they hold one (MMARVALID, BFARVALID).
-  if ((cfsr & (1U << 7)) != 0U) t << " mmfar=", t.hex(reg(kMmfar));
-  if ((cfsr & (1U << 15)) != 0U) t << " bfar=", t.hex(reg(kBfar));
+  // The fault address registers only where CFSR says they hold one.
+  if ((cfsr & kCfsrMmarValid) != 0U) {
+    t << " mmfar=";
+    t.hex(reg(kMmfar));
+  }
+  if ((cfsr & kCfsrBfarValid) != 0U) {
+    t << " bfar=";
+    t.hex(reg(kBfar));
+  }
   t << "\n";
   say(t.c_str());
-  if ((cfsr & (1U << 19)) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
+  if ((cfsr & kCfsrNoCp) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
   semihosting::exit(frame == nullptr ? kExitStackOverflow : kExitHardFault);
 }
 

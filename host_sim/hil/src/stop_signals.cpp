@@ -35,8 +35,6 @@ StopSignals::~StopSignals() {
   for (std::size_t i = 0; i < kStopSignals.size(); ++i) ::sigaction(kStopSignals[i], &g_previous[i], nullptr);
 }
 
-int stop_signal() { return g_stop_signal; }
-
 void throw_if_stopped() {
   const int number = g_stop_signal;
   if (number == 0) return;

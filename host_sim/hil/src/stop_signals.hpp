@@ -17,9 +17,6 @@ class StopSignals {
   StopSignals& operator=(const StopSignals&) = delete;
 };
 
-/// The signal received since the StopSignals was made, 0 if none.
-int stop_signal();
-
 /// Throws HilInterrupted if a stop signal was received.
 void throw_if_stopped();
 

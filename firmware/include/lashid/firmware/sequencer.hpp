@@ -326,8 +326,7 @@ class IdentificationSequencer {
       const hal::Status s = board_.link_read(byte);
       if (s == hal::Status::kWouldBlock) return;
       if (s != hal::Status::kOk) {
-        // Bytes were lost here (an overrun): a frame under way cannot be complete, and reading on would take the
-        // next frame's first bytes as its rest and lose that frame too. It is abandoned (as the plant port does).
+        // Bytes lost (an overrun): the frame under way is dropped, or it would eat the next (as the plant port).
         ++cost_.link_errors;
         static_cast<void>(decoder_.abandon_partial());
         continue;
