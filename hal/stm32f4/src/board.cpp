@@ -16,6 +16,14 @@ std::uint32_t expected_cpu_part() { return 0xC24U; }
 
 namespace lashid::hal::stm32f4 {
 
+ClockStart start_clock_tree() {
+  // The register values at compile time: the image carries no division and no check of the plan.
+  static constexpr ClockSettings kSettings = kClockPlan.settings();
+  static_assert(kSettings.valid);
+  MmioBus bus;
+  return start_clock_tree(bus, kSettings);
+}
+
 void Stm32f4Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
   usart_.init(baud);
   SysTickClock::start();

@@ -12,6 +12,8 @@ constexpr std::uint32_t kTxPollLimit = 1'000'000;  // ~80 character times at 115
 
 void Usart::init(std::uint32_t baud) const {
   using namespace detail;
+  MmioBus bus;
+  route_usart_pins(bus, port_.pins);
   // The peripheral's clock first (RM0090 7.3.13/7.3.14); read back so that the enable has taken effect before the
   // first register access (two AHB cycles are needed, STM32F40x errata ES0182 2.1.13).
   reg(port_.rcc_enable_register) = reg(port_.rcc_enable_register) | port_.rcc_enable_bit;

@@ -1,15 +1,17 @@
-// Board support for the STM32F405 (Cortex-M4F), as QEMU 7.2 emulates it in the machine `netduinoplus2`; written from
-// the STM32F4 reference manual RM0090 (rev 19), on top of hal/cortex_m (startup, SysTick, semihosting, stack).
-// Heap-free, exception-free, polled (the only interrupt used is SysTick's wrap count).
+// Board support for the STM32F405 (Cortex-M4F), on the chip and as QEMU 7.2 emulates it in the machine
+// `netduinoplus2`; written from the STM32F4 reference manual RM0090 (rev 19), on top of hal/cortex_m (startup,
+// SysTick, semihosting, stack). Heap-free, exception-free, polled (the only interrupt used is SysTick's wrap count).
 //
-//   Usart               USART1..6 (RM0090 30): RCC clock enable, BRR, CR1 UE/TE/RE, polled SR TXE/RXNE, DR
+//   start_clock_tree()  SYSCLK 168 MHz from the PLL on the HSE crystal (stm32f4/clock_tree.hpp, kClockPlan); on
+//                       QEMU, whose RCC is a stub that reads 0, it keeps the emulator's fixed 168 MHz
+//   Usart               USART1..6 (RM0090 30): its pins (stm32f4/usart_pins.hpp), RCC clock enable, BRR, CR1
+//                       UE/TE/RE, polled SR TXE/RXNE, DR
 //   Stm32f4Platform     the board-independent half of a hal::Board: link_write/link_read on USART1, cycles(),
 //                       wait_for_sample_tick() on SysTick; a firmware adds actuate()/measure()
 //
-// The clock tree is taken as QEMU presents it: SYSCLK = HCLK = 168 MHz, fixed (QEMU's RCC is an unimplemented-device
-// stub: writes are ignored, reads return 0, so waiting for PLLRDY would hang). A real board must first start the HSE
-// and the PLL and set the flash wait states (RM0090 6.3.2, 3.5.1); the baud rate divisors below assume the usual
-// APB prescalers at 168 MHz (APB1 42 MHz, APB2 84 MHz). docs/platform.md lists what else a real board needs.
+// The crystal's frequency is the board's: LASHID_STM32F4_HSE_HZ (CMake cache, 8 MHz by default, as on ST's
+// STM32F4DISCOVERY) and LASHID_STM32F4_HSE_BYPASS (an external clock instead of a crystal). docs/platform.md lists
+// what else a real board needs.
 #pragma once
 
 #include <cstddef>
@@ -17,16 +19,32 @@
 
 #include "lashid/hal/cortex_m.hpp"
 #include "lashid/hal/status.hpp"
+#include "lashid/hal/stm32f4/clock_tree.hpp"
+#include "lashid/hal/stm32f4/register_bus.hpp"
+#include "lashid/hal/stm32f4/usart_pins.hpp"
+
+#ifndef LASHID_STM32F4_HSE_HZ
+#define LASHID_STM32F4_HSE_HZ 8000000
+#endif
+#ifndef LASHID_STM32F4_HSE_BYPASS
+#define LASHID_STM32F4_HSE_BYPASS 0
+#endif
 
 namespace lashid::hal::stm32f4 {
 
 // ---- Platform constants ---------------------------------------------------------------------------------------------
 
-/// SYSCLK = HCLK: the CPU clock and SysTick's processor clock (QEMU netduinoplus2: SYSCLK_FRQ, 168 MHz, the
-/// STM32F405's maximum, RM0090 6.2).
-inline constexpr std::uint32_t kSystemClockHz = 168'000'000;
-inline constexpr std::uint32_t kApb1ClockHz = kSystemClockHz / 4;  ///< PCLK1 (USART2/3, UART4/5), 42 MHz maximum
-inline constexpr std::uint32_t kApb2ClockHz = kSystemClockHz / 2;  ///< PCLK2 (USART1/6), 84 MHz maximum
+/// The board's clock tree: 168 MHz (the STM32F405's maximum, RM0090 7.2) from its crystal; APB1 42 MHz, APB2 84 MHz.
+inline constexpr ClockPlan kClockPlan = plan_for_hse(LASHID_STM32F4_HSE_HZ, LASHID_STM32F4_HSE_BYPASS != 0);
+static_assert(kClockPlan.valid(),
+              "LASHID_STM32F4_HSE_HZ: the crystal must be a whole number of MHz in 4-26 MHz (1-50 MHz bypassed), "
+              "or choose the PLL's M and N by hand (RM0090 7.3.2)");
+/// SYSCLK = HCLK: the CPU clock and SysTick's processor clock. QEMU's netduinoplus2 runs at the same 168 MHz
+/// (SYSCLK_FRQ), fixed.
+inline constexpr std::uint32_t kSystemClockHz = kClockPlan.hclk_hz();
+static_assert(kSystemClockHz == 168'000'000, "QEMU netduinoplus2 runs at 168 MHz: the plan must give the same");
+inline constexpr std::uint32_t kApb1ClockHz = kClockPlan.pclk1_hz();  ///< PCLK1 (USART2/3, UART4/5), 42 MHz maximum
+inline constexpr std::uint32_t kApb2ClockHz = kClockPlan.pclk2_hz();  ///< PCLK2 (USART1/6), 84 MHz maximum
 inline constexpr std::uint32_t kDefaultBaud = 115'200;
 /// Under `-icount shift=0` one guest instruction is 1 ns, and one 168 MHz cycle 5.952 ns: 125 / 21 instructions per
 /// cycle (not an integer, unlike mps2's 40). lashid hil --ticks-to-instructions takes the ratio as a decimal.
@@ -42,10 +60,17 @@ struct UsartPort {
   std::uintptr_t rcc_enable_register;  ///< RCC_APB1ENR or RCC_APB2ENR
   std::uint32_t rcc_enable_bit;
   std::uint32_t pclk_hz;               ///< the APB clock its baud rate generator divides
+  UsartPins pins;                      ///< its TX and RX pins
 };
 inline constexpr std::uintptr_t kRccBase = 0x4002'3800;                        ///< RM0090 2.3, Table 1
-inline constexpr UsartPort kUsart1{0x4001'1000, kRccBase + 0x44, 1U << 4, kApb2ClockHz};   ///< APB2ENR.USART1EN
-inline constexpr UsartPort kUsart2{0x4000'4400, kRccBase + 0x40, 1U << 17, kApb1ClockHz};  ///< APB1ENR.USART2EN
+/// APB2ENR.USART1EN; PA9/PA10.
+inline constexpr UsartPort kUsart1{0x4001'1000, kRccBase + 0x44, 1U << 4, kApb2ClockHz, kUsart1PinsPA9PA10};
+/// APB1ENR.USART2EN; PA2/PA3.
+inline constexpr UsartPort kUsart2{0x4000'4400, kRccBase + 0x40, 1U << 17, kApb1ClockHz, kUsart2PinsPA2PA3};
+
+/// The board's clock tree (kClockPlan) on the chip's registers: call it first in main, before any peripheral, and
+/// stop unless runs_as_planned(): every baud rate and sample period assumes kClockPlan's clocks.
+ClockStart start_clock_tree();
 
 // The core's half, under this board's namespace (as hal/mps2 does).
 namespace semihosting = cortex_m::semihosting;
@@ -69,8 +94,8 @@ class Usart {
  public:
   explicit constexpr Usart(const UsartPort& port = kUsart1) : port_(port) {}
 
-  /// Clocks the USART (RCC), sets BRR for `baud` at its APB clock (16x oversampling, 8N1) and enables UE, TE, RE.
-  /// QEMU ignores BRR and the RCC; the order is the one the hardware needs.
+  /// Routes its pins, clocks the USART (RCC), sets BRR for `baud` at its APB clock (16x oversampling, 8N1) and
+  /// enables UE, TE, RE. QEMU ignores the pins, BRR and the RCC; the order is the one the hardware needs.
   void init(std::uint32_t baud = kDefaultBaud) const;
   /// Writes all bytes, waiting for TXE before each. kTimeout if TXE stays clear for ~1e6 polls.
   Status write(const std::uint8_t* data, std::size_t size) const;
