@@ -146,6 +146,7 @@ CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording&
     case Cause::kInputLag:
       c.model = search_input_lag(config, data, current, options);
       c.parameters.lambda = c.model.structure.input_lag;
+      c.lag_searched_on = current.structure;
       break;
     case Cause::kDeadTime:
       c.model = search_dead_time(config, data, current, options);

@@ -55,6 +55,9 @@ struct CandidateCause {
   double fit_instrumental = std::numeric_limits<double>::quiet_NaN();
   ResidualAnalysis identification;  ///< of the extended model's one-step residuals
   CauseParameters parameters;
+  /// Where this model's lambda was searched (an input lag, or lambda searched again under a drift): the structure
+  /// of the model the search extended. The selection does not search again on the same structure.
+  std::optional<ModelStructure> lag_searched_on;
 };
 
 /// One cause added to the extended model, in the order of the forward selection (the strongest first).
