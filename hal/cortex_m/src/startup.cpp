@@ -36,6 +36,7 @@ void NMI_Handler();
 void HardFault_Handler();
 void Default_Handler();
 void SysTick_Handler();  // systick.cpp
+void LinkRx_IRQHandler();  // the board's: its link UART's receive interrupt (lashid/hal/cortex_m.hpp)
 }
 
 // The application's main(), called through its assembler name: C++ forbids a program to call ::main directly.
@@ -59,6 +60,11 @@ constexpr std::size_t kSystemExceptions = 16;
 #error "LASHID_EXTERNAL_IRQS: the board library must define its number of external interrupt lines"
 #endif
 constexpr std::size_t kExternalInterrupts = LASHID_EXTERNAL_IRQS;
+#if !defined(LASHID_LINK_RX_IRQ)
+#error "LASHID_LINK_RX_IRQ: the board library must name its link UART's receive interrupt line"
+#endif
+constexpr std::size_t kLinkRxIrq = LASHID_LINK_RX_IRQ;
+static_assert(kLinkRxIrq < kExternalInterrupts, "LASHID_LINK_RX_IRQ: not one of the board's interrupt lines");
 
 struct VectorTable {
   void* initial_sp;
@@ -74,6 +80,7 @@ constexpr VectorTable make_vectors() {
   t.handlers[6] = t.handlers[7] = t.handlers[8] = t.handlers[9] = nullptr;  // 7..10: reserved
   t.handlers[12] = nullptr;                                                  // 13: reserved
   t.handlers[14] = SysTick_Handler;    // 15
+  t.handlers[kSystemExceptions - 1 + kLinkRxIrq] = LinkRx_IRQHandler;  // 16 + LASHID_LINK_RX_IRQ
   return t;
 }
 

@@ -23,5 +23,7 @@ inline constexpr std::uint32_t kUartTxOverrun = 1U << 2;
 inline constexpr std::uint32_t kUartRxOverrun = 1U << 3;
 inline constexpr std::uint32_t kUartTxEnable = 1U << 0;
 inline constexpr std::uint32_t kUartRxEnable = 1U << 1;
+inline constexpr std::uint32_t kUartRxIntEnable = 1U << 3;  // CTRL: RX interrupt when a byte arrives
+inline constexpr std::uint32_t kUartIntRx = 1U << 1;        // INTSTATUS/INTCLEAR: the RX interrupt
 
 }  // namespace lashid::hal::mps2::detail

@@ -1,6 +1,7 @@
 // The STM32F405 facts the shared Cortex-M support asks of its board (lashid/hal/cortex_m.hpp), and the platform's
 // init.
 #include "lashid/hal/stm32f4.hpp"
+#include "registers.hpp"
 
 // The machine, for `lashid hil` (section .lashid.machine, not loaded).
 LASHID_CORTEX_M_MACHINE_TAG(LASHID_QEMU_MACHINE_NAME);
@@ -24,10 +25,34 @@ ClockStart start_clock_tree() {
   return start_clock_tree(bus, kSettings);
 }
 
+static_assert(kUsart1Irq == LASHID_LINK_RX_IRQ, "the vector table's link interrupt must be USART1's");
+
 void Stm32f4Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
   usart_.init(baud);
+  // Received bytes now go through LinkRx_IRQHandler into the queue (lashid/hal/cortex_m.hpp).
+  detail::reg(kUsart1.base + detail::kUsartCr1) = detail::reg(kUsart1.base + detail::kUsartCr1) | detail::kCr1Rxneie;
+  cortex_m::enable_irq(kUsart1Irq);
   SysTickClock::start();
   timer_.start(sample_period_cycles);
 }
 
+Status Stm32f4Platform::link_read(std::uint8_t& byte) { return cortex_m::read_link_rx(byte); }
+
 }  // namespace lashid::hal::stm32f4
+
+// USART1's interrupt (RM0090 Table 61, position 37), raised by RXNE or ORE with RXNEIE set. Reading SR then DR clears
+// RXNE and the error flags (30.6.1); a byte with an error flag (overrun, framing, noise, parity) is dropped and
+// counted as lost, as the polled read did.
+extern "C" void LinkRx_IRQHandler() {
+  using namespace lashid::hal::stm32f4::detail;
+  constexpr std::uintptr_t base = lashid::hal::stm32f4::kUsart1.base;
+  lashid::hal::cortex_m::LinkRxQueue& queue = lashid::hal::cortex_m::link_rx_queue();
+  const std::uint32_t sr = reg(base + kUsartSr);
+  if ((sr & (kSrRxne | kSrOre | kSrFe | kSrNf | kSrPe)) == 0U) return;
+  const auto byte = static_cast<std::uint8_t>(reg(base + kUsartDr) & 0xFFU);
+  if ((sr & (kSrOre | kSrFe | kSrNf | kSrPe)) != 0U) {
+    queue.note_lost();
+  } else {
+    (void)queue.push(byte);
+  }
+}

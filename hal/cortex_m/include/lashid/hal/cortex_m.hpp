@@ -1,7 +1,9 @@
 // The Cortex-M (ARMv7-M / ARMv7E-M) half of every board support of the project, shared by hal/mps2 (QEMU's mps2
 // machines) and hal/stm32f4 (STM32F405, QEMU netduinoplus2): nothing here depends on a vendor's peripherals.
-// Heap-free, exception-free, polled (the only interrupt used is SysTick's wrap count).
+// Heap-free, exception-free. Two interrupts: SysTick's wrap count and the link UART's receive (LinkRx_IRQHandler,
+// the board's); every other I/O is polled.
 //
+//   link_rx_queue()     the link UART's received bytes, put there by its receive interrupt (the board's handler)
 //   SysTickClock        SysTick's 24-bit down counter extended to a 32-bit monotonic count of CPU clock cycles
 //   SampleTimer         a fixed sample period on SysTickClock (the sample tick of hal::Board)
 //   semihosting::       console output and the exit code to QEMU (-semihosting-config enable=on)
@@ -18,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "lashid/hal/isr_byte_queue.hpp"
 #include "lashid/hal/status.hpp"
 
 namespace lashid::hal::cortex_m {
@@ -48,6 +51,23 @@ inline constexpr bool kBuiltWithFpu =
 bool fpu_enabled();
 /// MVFR0 (FP feature register 0), 0 on cores without an FPU. Bits [7:4] single, [11:8] double precision.
 std::uint32_t fp_features();
+
+// ---- The link UART's receive interrupt ----------------------------------------------------------------------------
+
+/// The link UART's receive interrupt: external interrupt LASHID_LINK_RX_IRQ (a compile definition the board library
+/// sets PUBLIC on lashid_hal_cortex_m, and checks against its own constant) runs LinkRx_IRQHandler, which the board
+/// defines: it moves every received byte into link_rx_queue() and counts the bytes its UART lost (overrun, framing,
+/// noise). The sequencer reads the link once per sample; a UART without a FIFO holds one byte, and at 115200 baud 11
+/// arrive per millisecond, so without the interrupt a command sent during a run would overrun it on a chip (QEMU
+/// holds bytes back instead, which hid it).
+/// 256 bytes: more than the sequencer takes per poll (kPollBudget, two maximal frames), and 22 ms of input at
+/// 115200 baud, far more than a poll gap.
+using LinkRxQueue = IsrByteQueue<256>;
+LinkRxQueue& link_rx_queue();
+/// Enables external interrupt `irq` in the NVIC (ISER; priority left at its reset value, the highest).
+void enable_irq(std::uint32_t irq);
+/// The platforms' link_read: kLinkError once after bytes were lost, then the queued bytes (kOk), else kWouldBlock.
+Status read_link_rx(std::uint8_t& byte);
 
 // ---- Semihosting (ARM semihosting v2 over `bkpt 0xAB`; QEMU: -semihosting-config enable=on,target=native) --------
 

@@ -27,6 +27,7 @@ namespace lashid::hal::mps2 {
 inline constexpr std::uint32_t kSystemClockHz = 25'000'000;     ///< SYSCLK of the mps2 machines (QEMU: SYSCLK_FRQ)
 inline constexpr std::uint32_t kSysTickRefClockHz = 1'000'000;  ///< SysTick external reference clock (unused)
 inline constexpr std::uintptr_t kUart0Base = 0x4000'4000;       ///< CMSDK APB UART0 on AN385/AN386/AN500
+inline constexpr std::uint32_t kUart0RxIrq = 0;  ///< its receive interrupt line (QEMU hw/arm/mps2.c: uartirq[0])
 inline constexpr std::uint32_t kDefaultBaud = 115'200;
 /// Guest instructions per SysTick cycle when QEMU runs with `-icount shift=0` (1 instruction = 1 ns of virtual
 /// time, one 25 MHz cycle = 40 ns). Only meaningful under that option; without -icount, SysTick follows host time.
@@ -83,17 +84,19 @@ class Mps2Uart {
 
 // ---- The platform half of a hal::Board --------------------------------------------------------------------------------
 
-/// UART0 as the byte link, SysTick as the clock and the sample tick. A board type for the firmware composes this with
+/// UART0 as the byte link (received by interrupt), SysTick as the clock and the sample tick. A board type for the firmware composes this with
 /// its actuate()/measure(); together they satisfy lashid::hal::Board (see firmware/smoke/main.cpp).
 class Mps2Platform {
  public:
-  explicit constexpr Mps2Platform(std::uintptr_t uart_base = kUart0Base) : uart_(uart_base) {}
+  constexpr Mps2Platform() = default;
 
-  /// Initialises the UART and starts SysTick; the first sample tick is `sample_period_cycles` later.
+  /// Initialises UART0 with its receive interrupt (bytes go to cortex_m::link_rx_queue()) and starts SysTick; the
+  /// first sample tick is `sample_period_cycles` later.
   void init(std::uint32_t sample_period_cycles, std::uint32_t baud = kDefaultBaud);
 
   Status link_write(const std::uint8_t* data, std::size_t size) { return uart_.write(data, size); }
-  Status link_read(std::uint8_t& byte) { return uart_.read(byte); }
+  /// From the receive queue: kOk; kWouldBlock; kLinkError once after bytes were lost (UART overrun or a full queue).
+  Status link_read(std::uint8_t& byte);
   Status wait_for_sample_tick() { return timer_.wait(); }
   std::uint32_t cycles() const { return SysTickClock::cycles(); }
 
@@ -101,7 +104,7 @@ class Mps2Platform {
   const SampleTimer& sample_timer() const { return timer_; }
 
  private:
-  Mps2Uart uart_;
+  Mps2Uart uart_{kUart0Base};
   SampleTimer timer_;
 };
 

@@ -1,12 +1,14 @@
 // Board support for the STM32F405 (Cortex-M4F), on the chip and as QEMU 7.2 emulates it in the machine
 // `netduinoplus2`; written from the STM32F4 reference manual RM0090 (rev 19), on top of hal/cortex_m (startup,
-// SysTick, semihosting, stack). Heap-free, exception-free, polled (the only interrupt used is SysTick's wrap count).
+// SysTick, semihosting, stack). Heap-free, exception-free; polled but for the link's receive interrupt (USART1) and
+// SysTick's wrap count.
 //
 //   start_clock_tree()  SYSCLK 168 MHz from the PLL on the HSE crystal (stm32f4/clock_tree.hpp, kClockPlan); on
 //                       QEMU, whose RCC is a stub that reads 0, it keeps the emulator's fixed 168 MHz
 //   Usart               USART1..6 (RM0090 30): its pins (stm32f4/usart_pins.hpp), RCC clock enable, BRR, CR1
 //                       UE/TE/RE, polled SR TXE/RXNE, DR
-//   Stm32f4Platform     the board-independent half of a hal::Board: link_write/link_read on USART1, cycles(),
+//   Stm32f4Platform     the board-independent half of a hal::Board: link_write/link_read on USART1 (received by
+//                       interrupt into cortex_m::link_rx_queue()), cycles(),
 //                       wait_for_sample_tick() on SysTick; a firmware adds actuate()/measure()
 //
 // The crystal's frequency is the board's: LASHID_STM32F4_HSE_HZ (CMake cache, 8 MHz by default, as on ST's
@@ -63,6 +65,8 @@ struct UsartPort {
   UsartPins pins;                      ///< its TX and RX pins
 };
 inline constexpr std::uintptr_t kRccBase = 0x4002'3800;                        ///< RM0090 2.3, Table 1
+/// USART1's interrupt line (RM0090 Table 61, position 37): the link's receive interrupt.
+inline constexpr std::uint32_t kUsart1Irq = 37;
 /// APB2ENR.USART1EN; PA9/PA10.
 inline constexpr UsartPort kUsart1{0x4001'1000, kRccBase + 0x44, 1U << 4, kApb2ClockHz, kUsart1PinsPA9PA10};
 /// APB1ENR.USART2EN; PA2/PA3.
@@ -110,16 +114,20 @@ class Usart {
 
 // ---- The platform half of a hal::Board --------------------------------------------------------------------------------
 
-/// USART1 as the byte link, SysTick as the clock and the sample tick (as Mps2Platform on mps2).
+/// USART1 as the byte link (received by interrupt), SysTick as the clock and the sample tick (as Mps2Platform on
+/// mps2).
 class Stm32f4Platform {
  public:
-  explicit constexpr Stm32f4Platform(const UsartPort& link = kUsart1) : usart_(link) {}
+  constexpr Stm32f4Platform() = default;
 
-  /// Initialises the USART and starts SysTick; the first sample tick is `sample_period_cycles` later.
+  /// Initialises USART1 with its receive interrupt (bytes go to cortex_m::link_rx_queue()) and starts SysTick; the
+  /// first sample tick is `sample_period_cycles` later.
   void init(std::uint32_t sample_period_cycles, std::uint32_t baud = kDefaultBaud);
 
   Status link_write(const std::uint8_t* data, std::size_t size) { return usart_.write(data, size); }
-  Status link_read(std::uint8_t& byte) { return usart_.read(byte); }
+  /// From the receive queue: kOk; kWouldBlock; kLinkError once after bytes were lost (overrun, framing or noise
+  /// error, or a full queue).
+  Status link_read(std::uint8_t& byte);
   Status wait_for_sample_tick() { return timer_.wait(); }
   std::uint32_t cycles() const { return SysTickClock::cycles(); }
 
@@ -127,7 +135,7 @@ class Stm32f4Platform {
   const SampleTimer& sample_timer() const { return timer_; }
 
  private:
-  Usart usart_;
+  Usart usart_{kUsart1};
   SampleTimer timer_;
 };
 

@@ -1,0 +1,24 @@
+// The link UART's receive queue and the NVIC enable (lashid/hal/cortex_m.hpp). The handler that fills the queue is
+// the board's (LinkRx_IRQHandler: it knows its UART's registers); startup.cpp puts it at LASHID_LINK_RX_IRQ.
+#include "lashid/hal/cortex_m.hpp"
+#include "registers.hpp"
+
+namespace lashid::hal::cortex_m {
+
+namespace {
+LinkRxQueue g_link_rx;  // zero-initialised (.bss): empty before any interrupt can fire
+}  // namespace
+
+LinkRxQueue& link_rx_queue() { return g_link_rx; }
+
+void enable_irq(std::uint32_t irq) {
+  // NVIC_ISER0..7 (ARMv7-M ARM B3.4.4): one write-1-to-set bit per line, 32 lines per register.
+  detail::reg(detail::kNvicIser + 4U * (irq / 32U)) = 1U << (irq % 32U);
+}
+
+Status read_link_rx(std::uint8_t& byte) {
+  if (g_link_rx.take_lost()) return Status::kLinkError;
+  return g_link_rx.pop(byte) ? Status::kOk : Status::kWouldBlock;
+}
+
+}  // namespace lashid::hal::cortex_m
