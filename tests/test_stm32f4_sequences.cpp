@@ -24,7 +24,8 @@ constexpr std::uintptr_t kRccAhb1enr = pin_registers::kRccAhb1enr;
 // RCC_CR, SWS following SW when the source is ready, and FLASH_ACR taking (or, as a fault, refusing) the latency.
 class ChipModel {
  public:
-  bool crystal_starts = true, pll_locks = true, flash_takes_latency = true, no_rcc = false;
+  bool crystal_starts = true, crystal_stops = true, pll_locks = true, flash_takes_latency = true, no_rcc = false;
+  bool pllcfgr_writable = true;
   int ready_after_reads = 3;
   std::uint32_t reads = 0;
   std::vector<std::pair<std::uintptr_t, std::uint32_t>> writes;
@@ -56,17 +57,23 @@ class ChipModel {
     writes.emplace_back(address, value);
     std::uint32_t& r = reg.at(address);
     if (address == cr::kRccCr) {
-      const std::uint32_t ready = cr::kCrHsiRdy | cr::kCrHseRdy | cr::kCrPllRdy;
+      const std::uint32_t ready = cr::kCrHsiRdy | cr::kCrHseRdy | cr::kCrPllRdy | cr::kCrPllI2sRdy;
       if (((r ^ value) & cr::kCrHseByp) != 0 && (r & cr::kCrHseOn) != 0) breaches.push_back("HSEBYP changed with HSE on");
       r = (r & ready) | (value & ~ready);  // the ready flags are read-only
       // 7.3.1: PLLON and HSEON cannot be reset while the PLL (on the HSE) is SYSCLK.
       if (sysclk_source() == cr::kSwPll) r |= cr::kCrPllOn | cr::kCrHseOn;
       if ((r & cr::kCrPllOn) == 0) r &= ~cr::kCrPllRdy;
-      if ((r & cr::kCrHseOn) == 0) r &= ~cr::kCrHseRdy;
+      if ((r & cr::kCrPllI2sOn) == 0) r &= ~cr::kCrPllI2sRdy;
+      if ((r & cr::kCrHseOn) == 0 && crystal_stops) r &= ~cr::kCrHseRdy;
       pending_ = ready_after_reads;
     } else if (address == cr::kRccPllcfgr) {
-      if ((reg.at(cr::kRccCr) & (cr::kCrPllOn | cr::kCrPllRdy)) != 0) breaches.push_back("PLLCFGR written with the PLL on");
-      r = value;
+      // 7.3.2: PLLM and PLLSRC only with the PLL and the PLLI2S off (the chip then keeps the old values).
+      const std::uint32_t running = cr::kCrPllOn | cr::kCrPllRdy | cr::kCrPllI2sOn | cr::kCrPllI2sRdy;
+      if ((reg.at(cr::kRccCr) & running) != 0) {
+        breaches.push_back("PLLCFGR written with the PLL or the PLLI2S on");
+      } else if (pllcfgr_writable) {
+        r = value;
+      }
     } else if (address == cr::kRccCfgr) {
       const std::uint32_t sw = value & cr::kCfgrSwMask;
       if (sw == cr::kSwPll && (reg.at(cr::kFlashAcr) & cr::kAcrLatencyMask) < 5) {
@@ -94,6 +101,7 @@ class ChipModel {
     if ((c & cr::kCrHsiOn) != 0) c |= cr::kCrHsiRdy;
     if ((c & cr::kCrHseOn) != 0 && crystal_starts) c |= cr::kCrHseRdy;
     if ((c & cr::kCrPllOn) != 0 && pll_locks && (c & cr::kCrHseRdy) != 0) c |= cr::kCrPllRdy;
+    if ((c & cr::kCrPllI2sOn) != 0) c |= cr::kCrPllI2sRdy;
     std::uint32_t& cfgr = reg.at(cr::kRccCfgr);
     const std::uint32_t sw = cfgr & cr::kCfgrSwMask;
     const bool ready = sw == cr::kSwHsi ? (c & cr::kCrHsiRdy) != 0 : (c & cr::kCrPllRdy) != 0;
@@ -229,8 +237,9 @@ TEST(Stm32f4ClockTree, FlashThatRefusesTheWaitStatesStopsTheSequenceBeforeTheClo
 
 TEST(Stm32f4ClockTree, ABootLoadersRunningPllIsLeftForTheHsiBeforeItIsReconfigured) {
   ChipModel chip;
-  // A boot loader left SYSCLK on its own PLL (M = 8, N = 336: 0x0740'5408 with PLLSRC = HSE), 5 wait states.
-  chip.reg.at(cr::kRccCr) = 0x0303'7883U;
+  // A boot loader left SYSCLK on its own PLL (M = 8, N = 336: 0x0740'5408 with PLLSRC = HSE), 5 wait states, and
+  // the PLLI2S running (bits 26, 27).
+  chip.reg.at(cr::kRccCr) = 0x0F03'7883U;
   chip.reg.at(cr::kRccPllcfgr) = 0x2740'5408U;
   chip.reg.at(cr::kRccCfgr) = kCfgrOnPll;
   chip.reg.at(cr::kFlashAcr) = kAcr168MHz;
@@ -239,6 +248,35 @@ TEST(Stm32f4ClockTree, ABootLoadersRunningPllIsLeftForTheHsiBeforeItIsReconfigur
   EXPECT_TRUE(chip.breaches.empty()) << chip.breaches.front();
   EXPECT_EQ(chip.reg.at(cr::kRccPllcfgr), kPllcfgr8MHz);
   EXPECT_EQ(chip.reg.at(cr::kRccCfgr), kCfgrOnPll);
+}
+
+TEST(Stm32f4ClockTree, ARunningCrystalIsStoppedBeforeTheBypassIsSetAndStartedAgain) {
+  ChipModel chip;
+  chip.reg.at(cr::kRccCr) = 0x0003'7883U;  // HSEON, HSERDY: a crystal already running (a boot loader's)
+  EXPECT_EQ(start_clock_tree(chip, plan_for_hse(8'000'000, true).settings()), ClockStart::kOnPll);
+  EXPECT_TRUE(chip.breaches.empty()) << chip.breaches.front();
+  EXPECT_NE(chip.reg.at(cr::kRccCr) & cr::kCrHseByp, 0U);
+  ChipModel stuck;
+  stuck.reg.at(cr::kRccCr) = 0x0003'7883U;
+  stuck.crystal_stops = false;  // HSERDY stays set
+  EXPECT_EQ(start_clock_tree(stuck, plan_for_hse(8'000'000, true).settings()), ClockStart::kHseDidNotStop);
+  EXPECT_TRUE(stuck.breaches.empty()) << stuck.breaches.front();
+  EXPECT_EQ(stuck.reg.at(cr::kRccCr) & cr::kCrHseByp, 0U);  // not written while the HSE runs
+}
+
+TEST(Stm32f4ClockTree, VoltageScale1IsSetWhereABootLoaderLoweredIt) {
+  ChipModel chip;
+  chip.reg.at(cr::kPwrCr) = 0;  // scale 2
+  EXPECT_EQ(start_clock_tree(chip, test_plan()), ClockStart::kOnPll);
+  EXPECT_EQ(chip.reg.at(cr::kPwrCr), 0x0000'4000U);
+}
+
+TEST(Stm32f4ClockTree, APllConfigurationThatDoesNotReadBackStopsBeforeThePllStarts) {
+  ChipModel chip;
+  chip.pllcfgr_writable = false;
+  EXPECT_EQ(start_clock_tree(chip, test_plan()), ClockStart::kPllConfigRefused);
+  EXPECT_EQ(chip.reg.at(cr::kRccCr) & cr::kCrPllOn, 0U);
+  EXPECT_EQ(chip.sysclk_source(), cr::kSwHsi);
 }
 
 TEST(Stm32f4ClockTree, WithoutAnRccItTakesTheEmulatorsClockAndWritesNothing) {
@@ -271,20 +309,31 @@ TEST(Stm32f4UsartPins, Usart1OnPa9AndPa10IsAlternateFunction7) {
   EXPECT_EQ(chip.reg.at(kGpioA + pin_registers::kOtyper), 0U);
 }
 
+// Whether, in the writes, every pin's alternate function was in place before its mode became "alternate function".
+bool function_before_mode(const ChipModel& chip, const UsartPins& pins) {
+  for (const std::uint32_t pin : {pins.tx_pin, pins.rx_pin}) {
+    const std::uintptr_t afr = kGpioA + (pin < 8 ? pin_registers::kAfrl : pin_registers::kAfrh);
+    bool function_set = false;
+    for (const auto& [address, value] : chip.writes) {
+      if (address == afr && ((value >> (4 * (pin % 8))) & 0xFU) == pins.alternate_function) function_set = true;
+      if (address == kGpioA + pin_registers::kModer && ((value >> (2 * pin)) & 0x3U) == 2U && !function_set) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 TEST(Stm32f4UsartPins, Usart2OnPa2AndPa3IsAlternateFunction7AndTheModeComesLast) {
   ChipModel chip;
   route_usart_pins(chip, kUsart2PinsPA2PA3);
   // MODER: 10 at [5:4] and [7:6] -> 0xA0; AFRL: 7 in the nibbles of pins 2 and 3 ([11:8], [15:12]).
   EXPECT_EQ(chip.reg.at(kGpioA + pin_registers::kModer), 0xA800'00A0U);
   EXPECT_EQ(chip.reg.at(kGpioA + pin_registers::kAfrl), 0x0000'7700U);
-  // Each pin's alternate function is written before its mode becomes "alternate function".
-  bool af_set = false;
-  for (const auto& [address, value] : chip.writes) {
-    if (address == kGpioA + pin_registers::kAfrl && ((value >> 8) & 0xFU) == 7U) af_set = true;
-    if (address == kGpioA + pin_registers::kModer && ((value >> 4) & 0x3U) == 2U) {
-      EXPECT_TRUE(af_set) << "PA2 became an alternate-function pin before its function was chosen";
-    }
-  }
+  EXPECT_TRUE(function_before_mode(chip, kUsart2PinsPA2PA3));
+  ChipModel usart1;
+  route_usart_pins(usart1, kUsart1PinsPA9PA10);
+  EXPECT_TRUE(function_before_mode(usart1, kUsart1PinsPA9PA10));
 }
 
 }  // namespace

@@ -316,12 +316,23 @@ void check_board() {
 }  // namespace
 
 int main() {
+#if defined(LASHID_BOARD_STM32F4)
+  // The board's clocks first, as its identification image starts them (on QEMU, whose RCC reads 0, the emulator's
+  // fixed 168 MHz is kept and nothing is written).
+  const board::ClockStart clock = board::start_clock_tree();
+#endif
   kUart.init();
   {
     board::Text<160> t;
     t << "lashid smoke " << board::core_name() << " on " << board::machine_name() << "\n";
     both(t.c_str());
   }
+#if defined(LASHID_BOARD_STM32F4)
+  both("clocks: ");
+  both(board::to_string(clock));
+  both("\n");
+  check(board::runs_as_planned(clock), "clock tree");
+#endif
   check_startup();
   check_core();
   check_fpu();

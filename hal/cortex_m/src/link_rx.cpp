@@ -16,9 +16,18 @@ void enable_irq(std::uint32_t irq) {
   detail::reg(detail::kNvicIser + 4U * (irq / 32U)) = 1U << (irq % 32U);
 }
 
+void pend_irq(std::uint32_t irq) {
+  // NVIC_ISPR0..7 (B3.4.6): write-1-to-set pending.
+  detail::reg(detail::kNvicIspr + 4U * (irq / 32U)) = 1U << (irq % 32U);
+}
+
 Status read_link_rx(std::uint8_t& byte) {
-  if (g_link_rx.take_lost()) return Status::kLinkError;
-  return g_link_rx.pop(byte) ? Status::kOk : Status::kWouldBlock;
+  switch (g_link_rx.take(byte)) {
+    case LinkRxQueue::Take::kByte: return Status::kOk;
+    case LinkRxQueue::Take::kLost: return Status::kLinkError;
+    case LinkRxQueue::Take::kEmpty: break;
+  }
+  return Status::kWouldBlock;
 }
 
 }  // namespace lashid::hal::cortex_m

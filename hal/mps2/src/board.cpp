@@ -22,6 +22,9 @@ void Mps2Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) 
   // Received bytes now go through LinkRx_IRQHandler into the queue (lashid/hal/cortex_m.hpp).
   detail::reg(kUart0Base + detail::kUartCtrl) = detail::reg(kUart0Base + detail::kUartCtrl) | detail::kUartRxIntEnable;
   cortex_m::enable_irq(kUart0RxIrq);
+  // A byte that arrived between enabling RX and enabling its interrupt raised none (the CMSDK UART sets INTSTATUS.RX
+  // only on arrival with RXINTEN on): QEMU would then hold every later byte back, a link that never speaks again.
+  if ((detail::reg(kUart0Base + detail::kUartState) & detail::kUartRxFull) != 0U) cortex_m::pend_irq(kUart0RxIrq);
   SysTickClock::start();
   timer_.start(sample_period_cycles);
 }
@@ -31,19 +34,19 @@ Status Mps2Platform::link_read(std::uint8_t& byte) { return cortex_m::read_link_
 }  // namespace lashid::hal::mps2
 
 // UART0's receive interrupt (QEMU hw/arm/mps2.c: RX on line 0, TX on 1). The RX interrupt status is cleared before
-// the data register is emptied: a byte that arrives in between raises it again instead of waiting unseen.
+// the data register is emptied: a byte that arrives in between raises it again instead of waiting unseen. On an
+// overrun the byte held is the one before the loss: it is queued first, then the loss marked.
 extern "C" void LinkRx_IRQHandler() {
   using namespace lashid::hal::mps2::detail;
   constexpr std::uintptr_t base = lashid::hal::mps2::kUart0Base;
   lashid::hal::cortex_m::LinkRxQueue& queue = lashid::hal::cortex_m::link_rx_queue();
   reg(base + kUartIntStatus) = kUartIntRx;
-  std::uint32_t state = reg(base + kUartState);
-  if ((state & kUartRxOverrun) != 0U) {
-    reg(base + kUartState) = kUartRxOverrun;  // W1C
-    queue.note_lost();
-  }
-  while ((state & kUartRxFull) != 0U) {
-    (void)queue.push(static_cast<std::uint8_t>(reg(base + kUartData) & 0xFFU));
-    state = reg(base + kUartState);
+  for (std::uint32_t state = reg(base + kUartState); (state & (kUartRxFull | kUartRxOverrun)) != 0U;
+       state = reg(base + kUartState)) {
+    if ((state & kUartRxFull) != 0U) (void)queue.push(static_cast<std::uint8_t>(reg(base + kUartData) & 0xFFU));
+    if ((state & kUartRxOverrun) != 0U) {
+      reg(base + kUartState) = kUartRxOverrun;  // W1C
+      queue.note_lost();
+    }
   }
 }

@@ -41,8 +41,9 @@ Status Stm32f4Platform::link_read(std::uint8_t& byte) { return cortex_m::read_li
 }  // namespace lashid::hal::stm32f4
 
 // USART1's interrupt (RM0090 Table 61, position 37), raised by RXNE or ORE with RXNEIE set. Reading SR then DR clears
-// RXNE and the error flags (30.6.1); a byte with an error flag (overrun, framing, noise, parity) is dropped and
-// counted as lost, as the polled read did.
+// RXNE and the error flags (30.6.1). On an overrun DR still holds the last good byte (the later ones are lost): it is
+// kept, and the loss marked after it. A byte with a framing, noise or parity error is itself damaged: dropped, and
+// marked as lost.
 extern "C" void LinkRx_IRQHandler() {
   using namespace lashid::hal::stm32f4::detail;
   constexpr std::uintptr_t base = lashid::hal::stm32f4::kUsart1.base;
@@ -50,9 +51,10 @@ extern "C" void LinkRx_IRQHandler() {
   const std::uint32_t sr = reg(base + kUsartSr);
   if ((sr & (kSrRxne | kSrOre | kSrFe | kSrNf | kSrPe)) == 0U) return;
   const auto byte = static_cast<std::uint8_t>(reg(base + kUsartDr) & 0xFFU);
-  if ((sr & (kSrOre | kSrFe | kSrNf | kSrPe)) != 0U) {
+  if ((sr & (kSrFe | kSrNf | kSrPe)) != 0U) {
     queue.note_lost();
-  } else {
-    (void)queue.push(byte);
+    return;
   }
+  (void)queue.push(byte);
+  if ((sr & kSrOre) != 0U) queue.note_lost();
 }

@@ -4,9 +4,10 @@
 // here within a character time instead.
 //
 // One producer (the interrupt handler) and one consumer (the main loop), on one core: each index is written by one
-// side only, so plain atomic loads and stores suffice (no read-modify-write, which ARMv6-M lacks). Bytes that find
-// the queue full are counted as lost, as the UART's own overrun is (note_lost()); the consumer reports them once.
-// Freestanding, no heap.
+// side only, so plain atomic loads and stores suffice (no read-modify-write, which ARMv6-M lacks). A loss (a byte
+// that found the queue full, or one the UART lost: note_lost()) is reported where it happened in the stream: the
+// next byte that does arrive carries a mark, and take() reports the loss (kLost) just before that byte, so the bytes
+// queued before the loss are read as they came and only the frame the loss cut is broken. Freestanding, no heap.
 #pragma once
 
 #include <atomic>
@@ -23,6 +24,12 @@ class IsrByteQueue {
  public:
   static constexpr std::size_t kCapacity = Capacity;
 
+  enum class Take : std::uint8_t {
+    kByte,   ///< `byte` is the next byte
+    kEmpty,  ///< nothing waiting
+    kLost,   ///< bytes were lost here, between the byte taken last and the next one (reported once)
+  };
+
   /// Producer (interrupt handler): appends `byte`; false, and the byte counted as lost, if the queue is full.
   bool push(std::uint8_t byte) {
     const std::uint32_t head = head_.load(std::memory_order_relaxed);
@@ -31,30 +38,42 @@ class IsrByteQueue {
       note_lost();
       return false;
     }
-    bytes_[head % Capacity] = byte;
-    head_.store(head + 1U, std::memory_order_release);  // the byte is written before the consumer can see it
+    const std::size_t slot = head % Capacity;
+    bytes_[slot] = byte;
+    // The slot's loss mark (a bit; one writer, so a load and a store, no read-modify-write).
+    std::atomic<std::uint32_t>& marks = loss_marks_[slot / 32];
+    const std::uint32_t word = marks.load(std::memory_order_relaxed);
+    const std::uint32_t bit = 1U << (slot % 32);
+    marks.store(loss_pending_ ? (word | bit) : (word & ~bit), std::memory_order_relaxed);
+    loss_pending_ = false;
+    head_.store(head + 1U, std::memory_order_release);  // byte and mark are written before the consumer can see them
     return true;
   }
 
-  /// Producer: bytes lost before they reached the queue (the UART's overrun, framing or noise errors).
-  void note_lost() { lost_.store(lost_.load(std::memory_order_relaxed) + 1U, std::memory_order_release); }
+  /// Producer: bytes were lost before the next one that arrives (the UART's overrun, framing or noise errors).
+  void note_lost() {
+    loss_pending_ = true;
+    lost_.store(lost_.load(std::memory_order_relaxed) + 1U, std::memory_order_relaxed);
+  }
 
-  /// Consumer (main loop): the oldest byte, if any.
-  bool pop(std::uint8_t& byte) {
+  /// Consumer (main loop): the next byte, or the loss just before it, or nothing.
+  Take take(std::uint8_t& byte) {
     const std::uint32_t tail = tail_.load(std::memory_order_relaxed);
-    if (head_.load(std::memory_order_acquire) == tail) return false;
-    byte = bytes_[tail % Capacity];
+    if (head_.load(std::memory_order_acquire) == tail) return Take::kEmpty;
+    const std::size_t slot = tail % Capacity;
+    const bool marked = (loss_marks_[slot / 32].load(std::memory_order_relaxed) & (1U << (slot % 32))) != 0U;
+    if (marked && !loss_reported_) {
+      loss_reported_ = true;
+      return Take::kLost;
+    }
+    loss_reported_ = false;
+    byte = bytes_[slot];
     tail_.store(tail + 1U, std::memory_order_release);  // the slot is read before the producer may reuse it
-    return true;
+    return Take::kByte;
   }
 
-  /// Consumer: whether bytes were lost since the last call (each loss is reported once).
-  bool take_lost() {
-    const std::uint32_t lost = lost_.load(std::memory_order_acquire);
-    if (lost == lost_seen_) return false;
-    lost_seen_ = lost;
-    return true;
-  }
+  /// Bytes lost since the start (the producer's count; for reports).
+  std::uint32_t lost() const { return lost_.load(std::memory_order_relaxed); }
 
   /// Consumer: bytes waiting.
   std::size_t size() const {
@@ -66,8 +85,10 @@ class IsrByteQueue {
   std::atomic<std::uint32_t> head_{0};
   std::atomic<std::uint32_t> tail_{0};
   std::atomic<std::uint32_t> lost_{0};
-  std::uint32_t lost_seen_ = 0;  // consumer only
+  bool loss_pending_ = false;   // producer only: a loss since the last byte queued
+  bool loss_reported_ = false;  // consumer only: the mark of the slot at tail was reported
   std::uint8_t bytes_[Capacity] = {};
+  std::atomic<std::uint32_t> loss_marks_[(Capacity + 31) / 32] = {};  // a bit per slot, written before head moves
 };
 
 }  // namespace lashid::hal

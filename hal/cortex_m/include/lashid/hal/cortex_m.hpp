@@ -66,7 +66,10 @@ using LinkRxQueue = IsrByteQueue<256>;
 LinkRxQueue& link_rx_queue();
 /// Enables external interrupt `irq` in the NVIC (ISER; priority left at its reset value, the highest).
 void enable_irq(std::uint32_t irq);
-/// The platforms' link_read: kLinkError once after bytes were lost, then the queued bytes (kOk), else kWouldBlock.
+/// Sets external interrupt `irq` pending (ISPR): its handler runs once it is enabled and the priority allows.
+void pend_irq(std::uint32_t irq);
+/// The platforms' link_read: the queued bytes in order (kOk), kLinkError once where bytes were lost between two of
+/// them, else kWouldBlock.
 Status read_link_rx(std::uint8_t& byte);
 
 // ---- Semihosting (ARM semihosting v2 over `bkpt 0xAB`; QEMU: -semihosting-config enable=on,target=native) --------

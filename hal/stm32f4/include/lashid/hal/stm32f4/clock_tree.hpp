@@ -36,9 +36,12 @@ inline constexpr std::uint32_t kCrHseRdy = 1U << 17;
 inline constexpr std::uint32_t kCrHseByp = 1U << 18;
 inline constexpr std::uint32_t kCrPllOn = 1U << 24;
 inline constexpr std::uint32_t kCrPllRdy = 1U << 25;
+inline constexpr std::uint32_t kCrPllI2sOn = 1U << 26;
+inline constexpr std::uint32_t kCrPllI2sRdy = 1U << 27;
 // RCC_PLLCFGR (7.3.2): PLLM [5:0], PLLN [14:6], PLLP [17:16] (P = 2, 4, 6, 8 as 0..3), PLLSRC [22] (1 = HSE),
-// PLLQ [27:24]. The other bits are reserved and must keep their reset value (reset value 0x24003010: bit 29 is set).
-inline constexpr std::uint32_t kPllcfgrReserved = 0xF080'8000U;
+// PLLQ [27:24]. The other bits (15, 21:18, 23, 31:28) are reserved and must keep their reset value (reset value
+// 0x24003010: bit 29 is set). PLLM and PLLSRC may be written only while the PLL and the PLLI2S are both off.
+inline constexpr std::uint32_t kPllcfgrReserved = 0xF0BC'8000U;
 inline constexpr std::uint32_t kPllcfgrSrcHse = 1U << 22;
 // RCC_CFGR (7.3.3): SW [1:0] and SWS [3:2] (0 HSI, 1 HSE, 2 PLL), HPRE [7:4], PPRE1 [12:10], PPRE2 [15:13]
 inline constexpr std::uint32_t kCfgrSwMask = 0x3U;
@@ -155,7 +158,8 @@ enum class [[nodiscard]] ClockStart : std::uint8_t {
   kInvalidPlan,          ///< the plan breaks a rule of RM0090 (ClockPlan::valid()); nothing written
   kHsiNotReady,          ///< leaving a running PLL: the HSI did not come up
   kSwitchNotDone,        ///< RCC_CFGR.SWS did not follow SW (to the HSI, or to the PLL)
-  kPllDidNotStop,        ///< the PLL, already on, did not stop (its configuration cannot change while it runs)
+  kPllDidNotStop,        ///< the PLL or the PLLI2S, already on, did not stop (RCC_PLLCFGR cannot change while they run)
+  kPllConfigRefused,     ///< RCC_PLLCFGR did not read back as written: SYSCLK stays on the HSI
   kHseDidNotStop,        ///< the HSE, on with the other bypass setting, did not stop (HSEBYP needs it off)
   kHseNotReady,          ///< the crystal did not start: HSE is switched off again, SYSCLK stays on the HSI
   kFlashLatencyRefused,  ///< FLASH_ACR did not take the wait states: SYSCLK stays on the HSI
@@ -169,7 +173,8 @@ constexpr const char* to_string(ClockStart s) {
     case ClockStart::kInvalidPlan: return "the clock plan breaks a rule of RM0090";
     case ClockStart::kHsiNotReady: return "the HSI did not become ready";
     case ClockStart::kSwitchNotDone: return "SYSCLK did not switch (RCC_CFGR.SWS)";
-    case ClockStart::kPllDidNotStop: return "the running PLL did not stop";
+    case ClockStart::kPllDidNotStop: return "the running PLL or PLLI2S did not stop";
+    case ClockStart::kPllConfigRefused: return "RCC_PLLCFGR did not take the PLL's configuration";
     case ClockStart::kHseDidNotStop: return "the HSE did not stop (to change HSEBYP)";
     case ClockStart::kHseNotReady: return "the HSE crystal did not start";
     case ClockStart::kFlashLatencyRefused: return "FLASH_ACR did not take the wait states";
@@ -181,10 +186,12 @@ constexpr const char* to_string(ClockStart s) {
 /// Whether the clocks the plan computes are the ones running (the PLL, or the emulator's fixed clock).
 constexpr bool runs_as_planned(ClockStart s) { return s == ClockStart::kOnPll || s == ClockStart::kFixedByEmulator; }
 
-/// The start-up sequence (RM0090 7.2 and 3.5.1): leave a PLL already running (a boot loader's) for the HSI; start
-/// the HSE; voltage scale 1; flash wait states, prefetch and caches, checked by reading back, before the clock
-/// rises; bus prescalers; configure and start the PLL; switch SYSCLK to it. Every wait is bounded by
-/// plan.ready_poll_limit; a failure leaves SYSCLK on the HSI, which every later step can run on.
+/// The start-up sequence (RM0090 7.2 and 3.5.1): leave a PLL already running (a boot loader's) for the HSI; stop the
+/// PLL and the PLLI2S; start the HSE; voltage scale 1; flash wait states, prefetch and caches, checked by reading
+/// back, before the clock rises; bus prescalers; configure the PLL (read back) and start it; switch SYSCLK to it.
+/// Every wait is bounded by plan.ready_poll_limit. A failure after SYSCLK is on the HSI leaves it there; the two that
+/// can come before (kHsiNotReady, and kSwitchNotDone on the way to the HSI) leave the clock the image was started
+/// with (a boot loader's).
 template <RegisterBus Bus>
 ClockStart start_clock_tree(Bus& bus, const ClockSettings& plan) {
   using namespace clock_registers;
@@ -198,9 +205,9 @@ ClockStart start_clock_tree(Bus& bus, const ClockSettings& plan) {
     bus.write(kRccCfgr, (bus.read(kRccCfgr) & ~kCfgrSwMask) | kSwHsi);
     if (!wait_for_bits(bus, kRccCfgr, kCfgrSwsMask, kSwHsi << 2, limit)) return ClockStart::kSwitchNotDone;
   }
-  if ((bus.read(kRccCr) & kCrPllOn) != 0U) {
-    bus.write(kRccCr, bus.read(kRccCr) & ~kCrPllOn);
-    if (!wait_for_bits(bus, kRccCr, kCrPllRdy, 0U, limit)) return ClockStart::kPllDidNotStop;
+  if ((bus.read(kRccCr) & (kCrPllOn | kCrPllI2sOn)) != 0U) {
+    bus.write(kRccCr, bus.read(kRccCr) & ~(kCrPllOn | kCrPllI2sOn));
+    if (!wait_for_bits(bus, kRccCr, kCrPllRdy | kCrPllI2sRdy, 0U, limit)) return ClockStart::kPllDidNotStop;
   }
   // HSEBYP may be written only while the HSE is off (7.3.1): stop it first if it runs the other way.
   if (((bus.read(kRccCr) & kCrHseByp) != 0U) != plan.hse_bypass) {
@@ -224,6 +231,7 @@ ClockStart start_clock_tree(Bus& bus, const ClockSettings& plan) {
   if ((bus.read(kFlashAcr) & kAcrLatencyMask) != latency) return ClockStart::kFlashLatencyRefused;
   bus.write(kRccCfgr, (bus.read(kRccCfgr) & ~kCfgrPrescalerMask) | plan.cfgr_prescalers);
   bus.write(kRccPllcfgr, (bus.read(kRccPllcfgr) & kPllcfgrReserved) | plan.pllcfgr_fields);
+  if ((bus.read(kRccPllcfgr) & ~kPllcfgrReserved) != plan.pllcfgr_fields) return ClockStart::kPllConfigRefused;
   bus.write(kRccCr, bus.read(kRccCr) | kCrPllOn);
   if (!wait_for_bits(bus, kRccCr, kCrPllRdy, kCrPllRdy, limit)) return ClockStart::kPllNotReady;
   bus.write(kRccCfgr, (bus.read(kRccCfgr) & ~kCfgrSwMask) | kSwPll);
