@@ -225,15 +225,24 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const double max_lag = options.max_input_lag;
   std::vector<double> grid;
   for (double lambda = 0.05; lambda <= max_lag + 1e-9; lambda += 0.05) grid.push_back(lambda);
+  // The grid's fits are independent (each from `current`): the upper half on a second thread. The best is then
+  // chosen in grid order, as a single thread would.
+  std::vector<JointModel> grid_fits(grid.size());
+  const std::size_t half = grid.size() / 2;
+  auto upper = std::async(std::launch::async, [&] {
+    for (std::size_t i = half; i < grid.size(); ++i) grid_fits[i] = coarse(grid[i], &current, data);
+  });
+  for (std::size_t i = 0; i < half; ++i) grid_fits[i] = coarse(grid[i], &current, data);
+  upper.get();
   JointModel best_coarse;
   double grid_lambda = 0;
-  for (double lambda : grid) {
-    JointModel m = coarse(lambda, &current, data);
-    if (m.ok && m.rss < rss_or_infinity(best_coarse)) {
-      best_coarse = std::move(m);
-      grid_lambda = lambda;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (grid_fits[i].ok && grid_fits[i].rss < rss_or_infinity(best_coarse)) {
+      best_coarse = std::move(grid_fits[i]);
+      grid_lambda = grid[i];
     }
   }
+  grid_fits.clear();
   if (!best_coarse.ok) return current;
   // The coarse model's golden section only where the coarse model is the answer (every fit costs about the same:
   // building the normal equations dominates, whatever the border resolution).
