@@ -118,8 +118,11 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   auto* fw_opt = cmd->add_option("--firmware", args.firmware, "Firmware ELF to start QEMU with (cross preset build)")
                     ->check(CLI::ExistingFile);
   auto* attach_opt = cmd->add_option("--attach", args.attach,
-                                         "Attach to a running QEMU instead: its UART0 and UART1 Unix sockets "
-                                         "(-serial unix:LINK,server=on,wait=off -serial unix:PLANT,server=on,wait=off)")
+                                         "Attach instead of starting QEMU: LINK and PLANT are a running QEMU's "
+                                         "UART0 and UART1 Unix sockets (-serial unix:LINK,server=on,wait=off "
+                                         "-serial unix:PLANT,server=on,wait=off), or two serial ports, a board's "
+                                         "link and plant-port UARTs (e.g. /dev/ttyUSB0 /dev/ttyUSB1; 115200 baud, "
+                                         "8N1, raw)")
                          ->expected(2);
   fw_opt->excludes(attach_opt);
   auto* scenario = cmd->add_option("--scenario", args.scenario,

@@ -4,7 +4,9 @@
 #include <poll.h>
 #include <spawn.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -104,7 +106,9 @@ bool write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what)
   while (done < bytes.size()) {
     // send(MSG_NOSIGNAL), not write(): a closed peer is EPIPE here, not a SIGPIPE that kills the tool and leaves
     // its temporary folder and a half-finished recording behind.
-    const ssize_t n = ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
+    ssize_t n = ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
+    // A serial port is not a socket (and cannot raise SIGPIPE): write() there.
+    if (n < 0 && errno == ENOTSOCK) n = ::write(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       if (errno == EPIPE || errno == ECONNRESET) return false;
@@ -150,7 +154,43 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
   fds.plant = accept_with_timeout(plant_listener.fd(), fds.console, 10000, "plant (UART1)");
 }
 
+namespace {
+
+int open_serial_port(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) fail_errno("cannot open the serial port " + path);
+  termios t{};
+  if (::tcgetattr(fd, &t) != 0) {
+    const int e = errno;
+    ::close(fd);
+    errno = e;
+    fail_errno(path + " is a character device but not a serial port");
+  }
+  ::cfmakeraw(&t);                    // 8 data bits, no parity, no echo, no line editing or translation
+  constexpr tcflag_t kTwoStopBitsAndFlowControl = CSTOPB | CRTSCTS;  // the boards use neither
+  constexpr tcflag_t kIgnoreModemLinesAndReceive = CLOCAL | CREAD;
+  constexpr tcflag_t kSoftwareFlowControl = IXON | IXOFF | IXANY;
+  t.c_cflag &= ~kTwoStopBitsAndFlowControl;
+  t.c_cflag |= kIgnoreModemLinesAndReceive;
+  t.c_iflag &= ~kSoftwareFlowControl;
+  t.c_cc[VMIN] = 1;  // a read after poll() returns what has arrived
+  t.c_cc[VTIME] = 0;
+  static_assert(kSerialBaud == 115'200, "B115200 below");
+  if (::cfsetispeed(&t, B115200) != 0 || ::cfsetospeed(&t, B115200) != 0 || ::tcsetattr(fd, TCSANOW, &t) != 0) {
+    const int e = errno;
+    ::close(fd);
+    errno = e;
+    fail_errno(fmt::format("cannot set {} to {} baud, 8N1, raw", path, kSerialBaud));
+  }
+  ::tcflush(fd, TCIOFLUSH);  // what arrived before this run is not part of it
+  return fd;
+}
+
+}  // namespace
+
 int connect_with_timeout(const std::string& path, int timeout_ms) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode)) return open_serial_port(path);
   const sockaddr_un addr = socket_address(path);
   for (int waited = 0;; waited += 50) {
     const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);

@@ -23,7 +23,7 @@ struct SessionFds {
 /// Throws std::runtime_error "hil: WHAT: strerror(errno)".
 [[noreturn]] void fail_errno(const std::string& what);
 
-/// Writes every byte to a socket. False: the peer has closed it (QEMU exited or was killed; never a SIGPIPE). Any
+/// Writes every byte to a socket or a serial port. False: the peer has closed it (QEMU exited or was killed; never a SIGPIPE). Any
 /// other failure throws, naming `what`.
 [[nodiscard]] bool write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what);
 
@@ -32,7 +32,12 @@ struct SessionFds {
 /// to kill it) and fills the descriptors.
 void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid_t& qemu, SessionFds& fds);
 
-/// Connects to a socket of a QEMU started by the user, retrying for up to timeout_ms.
+/// Attaches to `path`: a Unix socket of a QEMU started by the user (connecting, retrying for up to timeout_ms), or a
+/// serial port (a character device: a board's UART through a USB adapter, or a pseudo-terminal such as QEMU's
+/// `-serial pty`), opened raw at the firmware's 115200 baud, 8N1, no flow control, its pending input dropped.
 int connect_with_timeout(const std::string& path, int timeout_ms);
+
+/// The line settings the firmware's UARTs use (kDefaultBaud of the boards).
+inline constexpr unsigned kSerialBaud = 115'200;
 
 }  // namespace lashid::sim::detail
