@@ -332,3 +332,13 @@ TEST(JointModel, OutputErrorSimulatesCloserToTheTruthUnderSensorNoise) {
   }
   EXPECT_LT(ratio_sum / seeds, 0.8);
 }
+
+// A fit in the report's words: the digits where they mean something, words where the simulation ran away (a diverging
+// val simulation used to print an 80-digit percentage).
+TEST(DiagnosisReport, AFitThatRunsAwayIsSaidInWordsNotDigits) {
+  EXPECT_EQ(lashid::sim::describe_fit(87.26), "87.3 %");
+  EXPECT_EQ(lashid::sim::describe_fit(-999.0), "-999.0 %");
+  EXPECT_EQ(lashid::sim::describe_fit(-6.2e80), "below -999 % (its simulation runs away)");
+  EXPECT_EQ(lashid::sim::describe_fit(-std::numeric_limits<double>::infinity()), "none (its simulation diverges)");
+  EXPECT_EQ(lashid::sim::describe_fit(std::numeric_limits<double>::quiet_NaN()), "none (its simulation diverges)");
+}

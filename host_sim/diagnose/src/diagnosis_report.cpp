@@ -91,8 +91,8 @@ ReversalError reversal_error(const Diagnosis& d) {
 std::vector<std::string> describe_findings(const Diagnosis& d) {
   std::vector<std::string> f;
   f.push_back(fmt::format("The nominal model ({}, n = {}, joint DIS+AIS least squares) simulates 'val' with a fit of "
-                          "{:.1f} %.",
-                          to_string(d.nominal.structure.op), d.nominal.n, d.fit_nominal));
+                          "{}.",
+                          to_string(d.nominal.structure.op), d.nominal.n, describe_fit(d.fit_nominal)));
   const auto& id = d.identification;
   if (id.whiteness.p_value >= 1e-4) {
     f.push_back(fmt::format("Its one-step residuals on the identification phases are white (Ljung-Box Q = {:.1f}, "
@@ -156,8 +156,8 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
       evidence = fmt::format("likelihood ratio {:.1f} ({}), extended residuals whiteness {}", c.statistic,
                              p_text(c.p_value), p_text(c.identification.whiteness.p_value));
     }
-    f.push_back(fmt::format("{} {}: {}; val fit {:.1f} %.", to_string(c.cause), to_string(c.parameters), evidence,
-                            c.fit_val));
+    f.push_back(fmt::format("{} {}: {}; val fit {}.", to_string(c.cause), to_string(c.parameters), evidence,
+                            describe_fit(c.fit_val)));
   }
   if (!d.colored_check.white) {
     f.push_back(fmt::format("The final structure's identification residuals are not white: Ljung-Box Q / N = {:.4f}, "
@@ -170,14 +170,20 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
   } else {
     std::string steps;
     for (const AddedCause& a : d.added) {
-      steps += fmt::format("{}{} {} ({:.1f} % -> {:.1f} %)", steps.empty() ? "" : ", then ", to_string(a.cause),
-                           to_string(a.parameters), a.fit_before, a.fit_after);
+      steps += fmt::format("{}{} {} ({} -> {})", steps.empty() ? "" : ", then ", to_string(a.cause),
+                           to_string(a.parameters), describe_fit(a.fit_before), describe_fit(a.fit_after));
     }
-    f.push_back(fmt::format("Conclusion: {} cause{}, strongest first: {}. Val fit {:.1f} % (nominal) -> {:.1f} % "
-                            "(extended).",
-                            d.added.size(), d.added.size() > 1 ? "s" : "", steps, d.fit_nominal, d.fit_extended));
+    f.push_back(fmt::format("Conclusion: {} cause{}, strongest first: {}. Val fit {} (nominal) -> {} (extended).",
+                            d.added.size(), d.added.size() > 1 ? "s" : "", steps, describe_fit(d.fit_nominal),
+                            describe_fit(d.fit_extended)));
   }
   return f;
+}
+
+std::string describe_fit(double fit_percent) {
+  if (!std::isfinite(fit_percent)) return "none (its simulation diverges)";
+  if (fit_percent < -999.0) return "below -999 % (its simulation runs away)";
+  return fmt::format("{:.1f} %", fit_percent);
 }
 
 std::string to_string(const CauseParameters& p) {

@@ -33,7 +33,8 @@ void plot_diagnosis(const sim::Diagnosis& d, const std::string& png_path) {
   plot::Figure figure;
   figure.title = fmt::format("lashid diagnose: cause {} {}", sim::to_string(d.cause), to_string(d.parameters));
   figure.panels.push_back(
-      {fmt::format("val: fit {:.1f} % (nominal), {:.1f} % (extended)", d.fit_nominal, d.fit_extended),
+      {fmt::format("val: fit {} (nominal), {} (extended)", sim::describe_fit(d.fit_nominal),
+                   sim::describe_fit(d.fit_extended)),
        "sample of val",
        "y",
        {{"measured", t, d.val_measured}, {"nominal simulation", t, d.val_nominal},

@@ -172,4 +172,9 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
 /// What the nominal simulation gets wrong and what the evidence says, in sentences (diagnosis_report.cpp).
 std::vector<std::string> describe_findings(const Diagnosis& diagnosis);
 
+/// A simulation fit in words: "87.3 %"; "below -999 % (its simulation runs away)" for a fit under -999 % (the error
+/// more than ten times the output's spread, where the digits say nothing: a diverging simulation prints 80 of them);
+/// "none (its simulation diverges)" when it is not finite.
+std::string describe_fit(double fit_percent);
+
 }  // namespace lashid::sim
