@@ -11,9 +11,10 @@ inline volatile std::uint32_t& reg(std::uintptr_t address) {
   return *reinterpret_cast<volatile std::uint32_t*>(address);
 }
 
-// System Control Block
+// NVIC
 inline constexpr std::uintptr_t kNvicIser = 0xE000'E100;  // NVIC_ISER0; ISERn at +4n
 inline constexpr std::uintptr_t kNvicIspr = 0xE000'E200;  // NVIC_ISPR0; ISPRn at +4n
+// System Control Block
 inline constexpr std::uintptr_t kCpuid = 0xE000'ED00;  // [15:4] PartNo
 inline constexpr std::uintptr_t kIcsr = 0xE000'ED04;   // [26] PENDSTSET, [8:0] VECTACTIVE
 inline constexpr std::uintptr_t kVtor = 0xE000'ED08;

@@ -60,6 +60,7 @@ std::uint32_t fp_features();
 /// noise). The sequencer reads the link once per sample; a UART without a FIFO holds one byte, and at 115200 baud 11
 /// arrive per millisecond, so without the interrupt a command sent during a run would overrun it on a chip (QEMU
 /// holds bytes back instead, which hid it).
+///
 /// 256 bytes: more than the sequencer takes per poll (kPollBudget, two maximal frames), and 22 ms of input at
 /// 115200 baud, far more than a poll gap.
 using LinkRxQueue = IsrByteQueue<256>;
