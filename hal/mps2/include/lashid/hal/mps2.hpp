@@ -1,8 +1,10 @@
 // Board support for QEMU's ARM MPS2 machines: mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F), mps2-an500
-// (Cortex-M7F). Heap-free, exception-free, polled (the only interrupt used is SysTick's wrap count).
+// (Cortex-M7F). Heap-free, exception-free; polled but for the link's receive interrupt (UART0) and SysTick's wrap
+// count.
 //
 //   Mps2Uart            CMSDK APB UART (UART0 is the byte link and console): init, write, non-blocking read, errors
-//   Mps2Platform        the board-independent half of a hal::Board: link_write/link_read on UART0, cycles(),
+//   Mps2Platform        the board-independent half of a hal::Board: link_write/link_read on UART0 (received by
+//                       interrupt into cortex_m::link_rx_queue()), cycles(),
 //                       wait_for_sample_tick(); a firmware adds actuate()/measure() (e.g. over the link)
 //
 // The core's half (SysTickClock, SampleTimer, semihosting, stack_*(), finish(), Text, startup, linker sections) is
