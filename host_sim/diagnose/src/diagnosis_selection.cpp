@@ -42,7 +42,7 @@ struct CurrentModel {
   /// val fit of the same structure fitted by instrumental variables (-infinity when that fails or diverges).
   double fit_instrumental = -std::numeric_limits<double>::infinity();
   /// The structure the model's lambda was last searched on (CandidateCause::lag_searched_on).
-  std::optional<ModelStructure> lag_searched_on;
+  std::optional<ModelStructure> lag_searched_on = std::nullopt;
 };
 
 bool white(const ResidualAnalysis& r, const DiagnosisOptions& options) { return r.whiteness.p_value >= options.white_p; }
@@ -159,8 +159,7 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   // diagnoses).
   const ModelStructure others = without_cause(current.model.structure, Cause::kInputLag);
   if (current.lag_searched_on && same_besides_lag(*current.lag_searched_on, others)) return;
-  const JointModel base =
-      fit_joint_model(config, data, without_cause(current.model.structure, Cause::kInputLag), &current.model);
+  const JointModel base = fit_joint_model(config, data, others, &current.model);
   if (!base.ok) return;
   const CandidateCause refit = extend_model(config, data, base, Cause::kInputLag, options);
   if (!refit.model.ok) return;
@@ -255,11 +254,7 @@ void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const Experiment
 // the structure found, if that simulates val as well).
 void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecording& data,
                    const DiagnosisOptions& options) {
-  CurrentModel current;
-  current.model = d.nominal;
-  current.fit = d.fit_nominal;
-  current.val_simulation = d.val_nominal;
-  current.identification = d.identification;
+  CurrentModel current{d.nominal, d.fit_nominal, d.val_nominal, d.identification};
   // The val fit of `model`'s structure fitted by instrumental variables (the colored_noise extension).
   // The checks' IV fits: refitted by output error only with options.output_error_in_checks.
   DiagnosisOptions check_options = options;

@@ -159,13 +159,15 @@ namespace {
 int open_serial_port(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
   if (fd < 0) fail_errno("cannot open the serial port " + path);
-  termios t{};
-  if (::tcgetattr(fd, &t) != 0) {
+  // Closes the port before the error, keeping the errno that the error reports.
+  const auto fail_closing = [fd](const std::string& what) {
     const int e = errno;
     ::close(fd);
     errno = e;
-    fail_errno(path + " is a character device but not a serial port");
-  }
+    fail_errno(what);
+  };
+  termios t{};
+  if (::tcgetattr(fd, &t) != 0) fail_closing(path + " is a character device but not a serial port");
   ::cfmakeraw(&t);                    // 8 data bits, no parity, no echo, no line editing or translation
   constexpr tcflag_t kTwoStopBitsAndFlowControl = CSTOPB | CRTSCTS;  // the boards use neither
   constexpr tcflag_t kIgnoreModemLinesAndReceive = CLOCAL | CREAD;
@@ -177,10 +179,7 @@ int open_serial_port(const std::string& path) {
   t.c_cc[VTIME] = 0;
   static_assert(kSerialBaud == 115'200, "B115200 below");
   if (::cfsetispeed(&t, B115200) != 0 || ::cfsetospeed(&t, B115200) != 0 || ::tcsetattr(fd, TCSANOW, &t) != 0) {
-    const int e = errno;
-    ::close(fd);
-    errno = e;
-    fail_errno(fmt::format("cannot set {} to {} baud, 8N1, raw", path, kSerialBaud));
+    fail_closing(fmt::format("cannot set {} to {} baud, 8N1, raw", path, kSerialBaud));
   }
   ::tcflush(fd, TCIOFLUSH);  // what arrived before this run is not part of it
   return fd;

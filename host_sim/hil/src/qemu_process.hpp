@@ -23,8 +23,8 @@ struct SessionFds {
 /// Throws std::runtime_error "hil: WHAT: strerror(errno)".
 [[noreturn]] void fail_errno(const std::string& what);
 
-/// Writes every byte to a socket or a serial port. False: the peer has closed it (QEMU exited or was killed; never a SIGPIPE). Any
-/// other failure throws, naming `what`.
+/// Writes every byte to a socket or a serial port. False: the peer has closed it (QEMU exited or was killed; never a
+/// SIGPIPE). Any other failure throws, naming `what`.
 [[nodiscard]] bool write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what);
 
 /// Starts QEMU with options.firmware, UART0 and UART1 on two sockets in `dir` that the host listens on, and its
