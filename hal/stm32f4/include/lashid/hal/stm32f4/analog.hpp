@@ -1,0 +1,210 @@
+// The STM32F405's analog actuator and sensor: DAC channel 1 on PA4 drives the actuator's command v, ADC1 samples
+// the plant's output y on one channel, once per sample (software start, single conversion, polled). Written from
+// RM0090 (rev 19): 14 (DAC), 13 (ADC), 8.3.12 (analog pin mode), 7.3.10/7.3.13/7.3.14 (RCC clock enables); the
+// ADC channels' pins from the STM32F405 datasheet DS8626, Table 7.
+//
+//   AnalogPlan        the channel, the reference voltage and the two affine scalings between the design's units
+//                     and the pins' volts (valid(): the checks the image static_asserts)
+//   start_dac         PA4 analog, the DAC clocked, channel 1 on with its output buffer, no trigger
+//   start_adc         the channel's pin analog, ADC1 clocked at PCLK2 / 4, 12 bits, one conversion of the channel
+//   write_dac         v in design units -> DHR12R1, or kOutOfRange (not written) outside the DAC's 0..Vref
+//   read_adc          one conversion: EOC awaited (bounded), a clipped code is kOutOfRange, a conversion that does
+//                     not finish is kTimeout
+//
+// QEMU 7.2's netduinoplus2 has no DAC (writes ignored) and an ADC that never sets SR.EOC: its DR answers, while
+// SWSTART is set, a code 7 above the last one (a sawtooth modulo 4096). With `emulated` (the clock tree found no
+// RCC, ClockStart::kFixedByEmulator) read_adc reads DR without waiting for EOC; the chip always waits. Freestanding,
+// no heap, no floating-point division at run time beyond the plan's constants; on any RegisterBus, so that the
+// sequences are tested on the PC (tests/test_stm32f4_analog.cpp).
+#pragma once
+
+#include <cstdint>
+
+#include "lashid/hal/status.hpp"
+#include "lashid/hal/stm32f4/register_bus.hpp"
+
+namespace lashid::hal::stm32f4 {
+
+namespace analog_registers {
+// RCC clock enables (7.3.10, 7.3.13, 7.3.14)
+inline constexpr std::uintptr_t kRccAhb1enr = 0x4002'3830;  // GPIOAEN [0], GPIOBEN [1], GPIOCEN [2]
+inline constexpr std::uintptr_t kRccApb1enr = 0x4002'3840;  // DACEN [29]
+inline constexpr std::uintptr_t kRccApb2enr = 0x4002'3844;  // ADC1EN [8]
+inline constexpr std::uint32_t kApb1enrDacEn = 1U << 29;
+inline constexpr std::uint32_t kApb2enrAdc1En = 1U << 8;
+// GPIO ports A, B, C (RM0090 2.3, Table 1) and MODER (8.4.1): 11 = analog
+inline constexpr std::uintptr_t kGpioA = 0x4002'0000;
+inline constexpr std::uintptr_t kGpioB = 0x4002'0400;
+inline constexpr std::uintptr_t kGpioC = 0x4002'0800;
+inline constexpr std::uintptr_t kModer = 0x00;
+inline constexpr std::uint32_t kModeAnalog = 3U;
+// DAC (14.5; base 0x40007400): CR EN1 [0], BOFF1 [1] (0 = output buffer on), TEN1 [2] (0 = DHR to DOR one APB1
+// cycle after the write); DHR12R1 [11:0]; DOR1 [11:0]
+inline constexpr std::uintptr_t kDac = 0x4000'7400;
+inline constexpr std::uintptr_t kDacCr = kDac + 0x00;
+inline constexpr std::uintptr_t kDacDhr12r1 = kDac + 0x08;
+inline constexpr std::uintptr_t kDacDor1 = kDac + 0x2C;
+inline constexpr std::uint32_t kDacCrEn1 = 1U << 0;
+inline constexpr std::uint32_t kDacCrChannel1Mask = 0xFFFFU;  // channel 1's half of DAC_CR (EN1 .. DMAUDRIE1)
+inline constexpr std::uint32_t kDacDacPin = 4;                // DAC_OUT1 is PA4 (DS8626 Table 7)
+// ADC1 (13.13; base 0x40012000) and the common registers (13.13.16; base 0x40012300)
+inline constexpr std::uintptr_t kAdc1 = 0x4001'2000;
+inline constexpr std::uintptr_t kAdcSr = kAdc1 + 0x00;     // EOC [1], STRT [4], OVR [5]
+inline constexpr std::uintptr_t kAdcCr1 = kAdc1 + 0x04;    // RES [25:24] (00 = 12 bits), SCAN [8]
+inline constexpr std::uintptr_t kAdcCr2 = kAdc1 + 0x08;    // ADON [0], CONT [1], EOCS [10], ALIGN [11], SWSTART [30]
+inline constexpr std::uintptr_t kAdcSmpr1 = kAdc1 + 0x0C;  // SMP10..SMP18, 3 bits each
+inline constexpr std::uintptr_t kAdcSmpr2 = kAdc1 + 0x10;  // SMP0..SMP9, 3 bits each
+inline constexpr std::uintptr_t kAdcSqr1 = kAdc1 + 0x2C;   // L [23:20]: conversions - 1
+inline constexpr std::uintptr_t kAdcSqr3 = kAdc1 + 0x34;   // SQ1 [4:0]
+inline constexpr std::uintptr_t kAdcDr = kAdc1 + 0x4C;
+inline constexpr std::uintptr_t kAdcCcr = 0x4001'2304;     // ADCPRE [17:16]: PCLK2 / 2, 4, 6, 8
+inline constexpr std::uint32_t kSrEoc = 1U << 1;
+inline constexpr std::uint32_t kSrOvr = 1U << 5;
+inline constexpr std::uint32_t kCr2Adon = 1U << 0;
+inline constexpr std::uint32_t kCr2Swstart = 1U << 30;
+inline constexpr std::uint32_t kCcrAdcpreMask = 3U << 16;
+/// PCLK2 / 4: 21 MHz from the plan's 84 MHz, within the 36 MHz ADCCLK maximum at 2.4-3.6 V (DS8626 Table 66).
+inline constexpr std::uint32_t kCcrAdcpreDiv4 = 1U << 16;
+/// 84 ADC cycles of sampling (SMP = 100): 4 us at 21 MHz, for a source impedance up to about 20 kOhm (DS8626,
+/// equation 1, R_AIN max for 12 bits); a conversion then takes 84 + 12 cycles, 4.6 us, far inside a 1 ms sample.
+inline constexpr std::uint32_t kSampleTime84Cycles = 4U;
+inline constexpr std::uint32_t kFullScaleCode = 4095U;
+/// t_STAB, the ADC's power-up time (DS8626 Table 66: 3 us max), in register reads (each at least one 168 MHz
+/// cycle, 6 ns): 3 us is at most 504 reads; 1,000 leave margin.
+inline constexpr std::uint32_t kStabilisationReads = 1000;
+/// EOC after SWSTART: 96 ADC cycles = 768 CPU cycles at 168 MHz; a read is at least one cycle. 100,000 reads
+/// (>= 0.6 ms) is a conversion that will not finish, not a slow one.
+inline constexpr std::uint32_t kConversionPolls = 100'000;
+}  // namespace analog_registers
+
+/// A GPIO pin: its port's registers and the RCC_AHB1ENR bit that clocks the port.
+struct AnalogPin {
+  std::uintptr_t gpio_base = 0;
+  std::uint32_t rcc_ahb1enr_bit = 0;
+  std::uint32_t pin = 0;
+};
+
+/// ADC123_IN0..IN15's pins (DS8626 Table 7): PA0-PA7, PB0-PB1, PC0-PC5.
+constexpr AnalogPin adc_channel_pin(std::uint32_t channel) {
+  using namespace analog_registers;
+  if (channel < 8) return {kGpioA, 1U << 0, channel};
+  if (channel < 10) return {kGpioB, 1U << 1, channel - 8};
+  return {kGpioC, 1U << 2, channel - 10};
+}
+
+/// physical = offset + gain * (volts at the pin): the signal conditioning between the design's units and the pin.
+struct AnalogScale {
+  float offset = 0.0F;
+  float gain = 1.0F;
+  constexpr bool valid() const { return offset - offset == 0.0F && gain - gain == 0.0F && gain != 0.0F; }
+};
+
+/// The analog half of a board: which ADC channel reads y, the reference voltage of both converters (V_REF+, VDDA
+/// on boards without a separate reference), and the scalings of v (DAC) and y (ADC).
+struct AnalogPlan {
+  std::uint32_t adc_channel = 1;  ///< ADC123_IN1, PA1
+  float vref_volts = 3.3F;
+  AnalogScale actuator;           ///< v = offset + gain * DAC_OUT1 volts
+  AnalogScale sensor;             ///< y = offset + gain * ADC input volts
+
+  /// The rules the image static_asserts: a channel with a pin (IN0..IN15) that is not the DAC's own PA4, and a
+  /// reference within the chip's 1.8-3.6 V (DS8626 Table 14), scalings finite with a non-zero gain.
+  constexpr bool valid() const {
+    return adc_channel <= 15 && adc_channel != analog_registers::kDacDacPin && vref_volts >= 1.8F &&
+           vref_volts <= 3.6F && actuator.valid() && sensor.valid();
+  }
+  /// v's range on the DAC's 0..Vref.
+  constexpr float actuator_low() const { return actuator.offset; }
+  constexpr float actuator_high() const { return actuator.offset + actuator.gain * vref_volts; }
+  /// y for an ADC code (0..4095: code / 4095 of Vref).
+  constexpr float sensor_value(std::uint32_t code) const {
+    return sensor.offset + sensor.gain * (vref_volts * static_cast<float>(code) / 4095.0F);
+  }
+  /// The DAC code for v, rounded to the nearest; false if v is not finite or falls outside 0..4095 by more than half
+  /// a code (DAC_OUT1 = Vref x code / 4095, RM0090 14.3.5).
+  bool dac_code(float v, std::uint32_t& code) const {
+    const float scaled = (v - actuator.offset) / actuator.gain * (4095.0F / vref_volts);
+    if (!(scaled >= -0.5F && scaled <= 4095.5F)) return false;  // NaN too
+    // Round half up, clamped to the codes (no libm call in the image).
+    code = scaled <= 0.0F ? 0U : static_cast<std::uint32_t>(scaled + 0.5F);
+    if (code > analog_registers::kFullScaleCode) code = analog_registers::kFullScaleCode;
+    return true;
+  }
+};
+
+namespace detail {
+template <RegisterBus Bus>
+void set_bits(Bus& bus, std::uintptr_t address, std::uint32_t bits) {
+  bus.write(address, bus.read(address) | bits);
+}
+// Clocks a pin's port and puts the pin in analog mode (8.3.12: no digital input, no pull).
+template <RegisterBus Bus>
+void make_analog(Bus& bus, const AnalogPin& pin) {
+  using namespace analog_registers;
+  set_bits(bus, kRccAhb1enr, pin.rcc_ahb1enr_bit);
+  (void)bus.read(kRccAhb1enr);  // the enable takes effect before the port is accessed (ES0182 2.1.13)
+  set_bits(bus, pin.gpio_base + kModer, kModeAnalog << (2U * pin.pin));
+}
+}  // namespace detail
+
+/// PA4 analog, the DAC clocked, channel 1 enabled with its output buffer and without a trigger (a write to DHR12R1
+/// reaches the pin one APB1 cycle later), output 0 V until the first write_dac. Channel 2's half of DAC_CR is kept.
+template <RegisterBus Bus>
+void start_dac(Bus& bus) {
+  using namespace analog_registers;
+  detail::make_analog(bus, AnalogPin{kGpioA, 1U << 0, kDacDacPin});
+  detail::set_bits(bus, kRccApb1enr, kApb1enrDacEn);
+  (void)bus.read(kRccApb1enr);
+  bus.write(kDacDhr12r1, 0U);
+  bus.write(kDacCr, (bus.read(kDacCr) & ~kDacCrChannel1Mask) | kDacCrEn1);
+}
+
+/// The channel's pin analog, ADC1 clocked at PCLK2 / 4, 12-bit right-aligned single conversions of that one channel
+/// sampled for 84 cycles, then powered up (ADON) and given its stabilisation time.
+template <RegisterBus Bus>
+void start_adc(Bus& bus, const AnalogPlan& plan) {
+  using namespace analog_registers;
+  detail::make_analog(bus, adc_channel_pin(plan.adc_channel));
+  detail::set_bits(bus, kRccApb2enr, kApb2enrAdc1En);
+  (void)bus.read(kRccApb2enr);
+  bus.write(kAdcCcr, (bus.read(kAdcCcr) & ~kCcrAdcpreMask) | kCcrAdcpreDiv4);
+  bus.write(kAdcCr1, 0U);  // 12 bits, no scan, no interrupts, no watchdog
+  bus.write(kAdcCr2, 0U);  // off, single conversion, EOC after each conversion, right-aligned
+  const std::uint32_t channel = plan.adc_channel;
+  const std::uintptr_t smpr = channel < 10 ? kAdcSmpr2 : kAdcSmpr1;
+  const std::uint32_t shift = 3U * (channel % 10);
+  bus.write(smpr, (bus.read(smpr) & ~(7U << shift)) | (kSampleTime84Cycles << shift));
+  bus.write(kAdcSqr1, 0U);  // L = 0: one conversion
+  bus.write(kAdcSqr3, channel);
+  bus.write(kAdcCr2, kCr2Adon);
+  for (std::uint32_t i = 0; i < kStabilisationReads; ++i) (void)bus.read(kAdcCr2);
+}
+
+/// Sets the DAC to v: kOk; kOutOfRange (v not finite or outside the DAC's range: nothing written).
+template <RegisterBus Bus>
+[[nodiscard]] Status write_dac(Bus& bus, const AnalogPlan& plan, float v) {
+  std::uint32_t code = 0;
+  if (!plan.dac_code(v, code)) return Status::kOutOfRange;
+  bus.write(analog_registers::kDacDhr12r1, code);
+  return Status::kOk;
+}
+
+/// One conversion of the plan's channel into y: kOk; kOutOfRange (the code is 0 or 4095: the input may lie beyond
+/// the converter's range, y is its clipped value); kTimeout (EOC never came: no value); kSensorFault (an overrun:
+/// the value is not this sample's). Both end a run. `emulated`:
+/// DR is read without waiting for EOC (QEMU, whose ADC never sets it).
+template <RegisterBus Bus>
+[[nodiscard]] Status read_adc(Bus& bus, const AnalogPlan& plan, float& y, bool emulated = false) {
+  using namespace analog_registers;
+  bus.write(kAdcCr2, kCr2Adon | kCr2Swstart);
+  if (!emulated && !wait_for_bits(bus, kAdcSr, kSrEoc, kSrEoc, kConversionPolls)) return Status::kTimeout;
+  const std::uint32_t code = bus.read(kAdcDr) & kFullScaleCode;  // reading DR clears EOC
+  if (!emulated && (bus.read(kAdcSr) & kSrOvr) != 0U) {
+    bus.write(kAdcSr, ~kSrOvr);  // rc_w0: clear OVR only
+    return Status::kSensorFault;
+  }
+  y = plan.sensor_value(code);
+  return code == 0U || code == kFullScaleCode ? Status::kOutOfRange : Status::kOk;
+}
+
+}  // namespace lashid::hal::stm32f4
