@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "lashid/firmware/paper_run_designs.hpp"
@@ -148,6 +149,35 @@ class NanSensorBoard : public sim::ScenarioBoard {
  private:
   std::vector<std::size_t> nan_at_;
 };
+
+// A board whose actuator reaches only [low, high] (a DAC's range): the firmware must refuse a design beyond it
+// before actuating anything, and run one within it.
+class RangedActuatorBoard : public sim::ScenarioBoard {
+ public:
+  RangedActuatorBoard(sim::ScenarioBoard board, float low, float high)
+      : sim::ScenarioBoard(std::move(board)), low_(low), high_(high) {}
+  float actuator_low() const { return low_; }
+  float actuator_high() const { return high_; }
+
+ private:
+  float low_, high_;
+};
+
+TEST(FirmwareOnHostBoard, RefusesADesignBeyondTheBoardsActuatorRange) {
+  static_assert(hal::Board<RangedActuatorBoard> && hal::LimitsActuatorRange<RangedActuatorBoard>);
+  const sim::Scenario& s = sim::find_scenario("ais_paper");  // [v_m, v_M] = [-2, 2]
+  for (const auto& [low, high] : {std::pair{-2.0F, 1.99F}, std::pair{-1.99F, 2.0F}}) {
+    RangedActuatorBoard board(sim::make_scenario_board(s, 1), low, high);
+    fw::IdentificationSequencer<RangedActuatorBoard> firmware(board, fw::kAisPaperRun);
+    EXPECT_EQ(firmware.run(), fw::RunStatus::kDesignRejected) << low << " " << high;
+    EXPECT_EQ(firmware.design_status(), fw::DesignStatus::kOutsideActuatorRange);
+    EXPECT_TRUE(board.exchanges().empty());
+  }
+  RangedActuatorBoard board(sim::make_scenario_board(s, 1), -2.0F, 2.0F);  // the interval itself: accepted
+  fw::IdentificationSequencer<RangedActuatorBoard> firmware(board, fw::kAisPaperRun);
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);
+  EXPECT_EQ(firmware.design_status(), fw::DesignStatus::kOk);
+}
 
 TEST(FirmwareOnHostBoard, CountsTheSamplesTheEstimatorRejects) {
   const sim::Scenario& s = sim::find_scenario("ais_paper");

@@ -88,10 +88,10 @@ TEST(CheckDesign, NamesEachViolatedRule) {
   EXPECT_EQ(with([](auto& d) { d.pulse_length_a = (1U << 28) + 1; }), DesignStatus::kPulseTooLong);
   // Every status has its own words.
   std::set<std::string> names;
-  for (int s = 0; s <= static_cast<int>(DesignStatus::kPulseTooLong); ++s) {
+  for (int s = 0; s <= static_cast<int>(DesignStatus::kOutsideActuatorRange); ++s) {
     names.insert(fw::to_string(static_cast<DesignStatus>(s)));
   }
-  EXPECT_EQ(names.size(), static_cast<std::size_t>(DesignStatus::kPulseTooLong) + 1);
+  EXPECT_EQ(names.size(), static_cast<std::size_t>(DesignStatus::kOutsideActuatorRange) + 1);
 }
 
 TEST(RunDesignWire, RoundTripsAndRefusesMalformedPayloads) {

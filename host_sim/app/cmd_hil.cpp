@@ -147,10 +147,9 @@ int run_checked_hil(const HilArgs& args) {
   HilOptions options;
   options.design = design;
   options.firmware = args.firmware;
-  if (args.attach.size() == 2) {
-    options.attach_link = args.attach[0];
-    options.attach_plant = args.attach[1];
-  }
+  if (!args.attach.empty()) options.attach_link = args.attach[0];
+  if (args.attach.size() == 2) options.attach_plant = args.attach[1];
+  options.physical_plant = args.physical_plant;
   options.scenario = args.scenario;
   options.seed = args.seed;
   options.machine = args.machine;
@@ -200,19 +199,24 @@ int run_checked_hil(const HilArgs& args) {
     if (!expected->equal) verdict.failures.push_back(HilFailure::kDifferentFromExpected);
   }
 
-  fmt::print("== hil: {} on {}, design {}, plant {} (seed {}) ==\n",
-             args.firmware.empty() ? "attached QEMU" : args.firmware, args.machine,
-             args.config.empty() ? args.scenario : args.config, args.plant.empty() ? args.scenario : args.plant,
-             args.seed);
+  fmt::print("== hil: {} on {}, design {}, plant {} ==\n", args.firmware.empty() ? "attached board" : args.firmware,
+             args.machine, args.config.empty() ? args.scenario : args.config,
+             args.physical_plant ? std::string("physical (the board's own actuator and sensor)")
+                                 : fmt::format("{} (seed {})", args.plant.empty() ? args.scenario : args.plant,
+                                               args.seed));
   fmt::print("  firmware result: {}; QEMU exit status {}{}\n", run_status_name(r.done), r.qemu_exit,
              r.qemu_exit > 128 ? fmt::format(" (QEMU was killed by signal {})", r.qemu_exit - 128) : "");
   if (r.design_status > 0) {
     fmt::print("  the firmware refused the design: {}\n",
                fw::to_string(static_cast<fw::DesignStatus>(r.design_status)));
   }
-  fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
-             "damaged on purpose\n",
-             r.samples, r.repeated_requests, r.protocol_errors, r.corrupted_by_host);
+  if (args.physical_plant) {
+    fmt::print("  host: the plant is the board's; {} protocol errors on the link\n", r.protocol_errors);
+  } else {
+    fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
+               "damaged on purpose\n",
+               r.samples, r.repeated_requests, r.protocol_errors, r.corrupted_by_host);
+  }
   if (args.fault_rate > 0) {
     fmt::print("  link faults (rate {:g}, seed {}): {} of {} bytes ({} dropped, {} garbled, {} duplicated); detected: "
                "{} frames by the host, {} by the firmware; sent again: {} by the host, {} plant requests by the "

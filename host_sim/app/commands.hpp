@@ -65,6 +65,7 @@ struct HilArgs {
   std::string record;  // the recording of the exchanged samples
   std::string config;  // the design sent, instead of the scenario's
   bool unchecked_design = false;  // send the config's design without the host's check (the firmware checks it)
+  bool physical_plant = false;    // the board's own actuator and sensor: nothing played, the link only
 };
 int run_hil_command(const HilArgs& args);
 

@@ -57,7 +57,10 @@ void check_machine(const HilOptions& options) {
 
 HilResult run_hil(const HilOptions& options) {
   const bool attach = !options.attach_link.empty() || !options.attach_plant.empty();
-  if (attach && (options.attach_link.empty() || options.attach_plant.empty())) {
+  if (options.physical_plant && !options.attach_plant.empty()) {
+    throw std::runtime_error("hil: a physical plant has no plant port to attach: give the link only");
+  }
+  if (attach && (options.attach_link.empty() || (options.attach_plant.empty() && !options.physical_plant))) {
     throw std::runtime_error("hil: attaching needs both sockets (link = UART0, plant = UART1)");
   }
   if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
@@ -100,7 +103,7 @@ HilResult run_hil(const HilOptions& options) {
   try {
     if (attach) {
       fds.link = detail::connect_with_timeout(options.attach_link, 10000);
-      fds.plant = detail::connect_with_timeout(options.attach_plant, 10000);
+      if (!options.physical_plant) fds.plant = detail::connect_with_timeout(options.attach_plant, 10000);
     } else {
       detail::start_qemu(options, dir, qemu, fds);
     }

@@ -2,6 +2,7 @@
 // board (host_board_run.cpp).
 #include "played_run.hpp"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,7 +22,15 @@ fw::RunDesign run_design_of(const HilOptions& options) {
   return run_design_of(find_scenario(options.scenario));
 }
 
+namespace {
+// The plant of a physical-plant run: never stepped (no plant port is open), NaN if it were.
+struct UnplayedPlant {
+  double step(double /*v*/) { return std::numeric_limits<double>::quiet_NaN(); }
+};
+}  // namespace
+
 AnyPlant played_plant(const HilOptions& options, const fw::RunDesign& design) {
+  if (options.physical_plant) return AnyPlant(UnplayedPlant{});
   if (options.plant_file.empty()) return AnyPlant(ScenarioPlant(find_scenario(options.scenario), options.seed));
   const PlantSpec spec = read_plant_json(options.plant_file);
   const auto v_min = static_cast<double>(design.v_min), v_max = static_cast<double>(design.v_max);
@@ -31,6 +40,9 @@ AnyPlant played_plant(const HilOptions& options, const fw::RunDesign& design) {
 
 void start_recording(std::optional<RunRecorder>& recorder, const HilOptions& options, const fw::RunDesign& design) {
   if (options.record.empty()) return;
+  if (options.physical_plant) {
+    throw std::invalid_argument("hil: no recording of a physical plant: the host sees none of its samples");
+  }
   const std::string plant = options.plant_file.empty() ? fmt::format("scenario {}", options.scenario)
                                                        : fmt::format("plant file {}", options.plant_file);
   std::vector<std::string> comments{

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -121,11 +122,14 @@ bool write_all(int fd, const std::vector<std::uint8_t>& bytes, const char* what)
 
 void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid_t& qemu, SessionFds& fds) {
   UnixListener link_listener(dir / "link.sock");
-  UnixListener plant_listener(dir / "plant.sock");
+  // A physical plant's board has no plant port: its second UART goes nowhere.
+  std::optional<UnixListener> plant_listener;
+  if (!options.physical_plant) plant_listener.emplace(dir / "plant.sock");
   QemuCommand command;
   command.qemu = options.qemu;
   command.machine = options.machine;
-  command.serials = {"unix:" + (dir / "link.sock").string(), "unix:" + (dir / "plant.sock").string()};
+  command.serials = {"unix:" + (dir / "link.sock").string(),
+                     options.physical_plant ? std::string("null") : "unix:" + (dir / "plant.sock").string()};
   // Deterministic virtual time (1 instruction = 1 ns) only on request: QEMU then services the UARTs only between
   // long runs of the vCPU, which makes every exchange slow.
   command.icount = options.icount;
@@ -151,7 +155,7 @@ void start_qemu(const HilOptions& options, const std::filesystem::path& dir, pid
     fail_errno("cannot start " + options.qemu);
   }
   fds.link = accept_with_timeout(link_listener.fd(), fds.console, 10000, "link (UART0)");
-  fds.plant = accept_with_timeout(plant_listener.fd(), fds.console, 10000, "plant (UART1)");
+  if (plant_listener) fds.plant = accept_with_timeout(plant_listener->fd(), fds.console, 10000, "plant (UART1)");
 }
 
 namespace {

@@ -62,6 +62,9 @@ enum class [[nodiscard]] DesignStatus : std::uint8_t {
   kBusy,                ///< a design arrived after the start: a run's design cannot change (the run goes on)
   // Added after the others so that the codes above keep their values on the link; checked after kPulseATooShort.
   kPulseTooLong,        ///< N of a pulse experiment > est::kMaxPulseLength: float32's sums would lose accuracy
+  /// [v_min, v_max] reaches beyond the board's actuator range (hal::LimitsActuatorRange: a DAC's 0..Vref in the
+  /// design's units); checked by the sequencer after check_design, for a board that has one.
+  kOutsideActuatorRange,
 };
 
 constexpr const char* to_string(DesignStatus s) {
@@ -88,6 +91,7 @@ constexpr const char* to_string(DesignStatus s) {
     case DesignStatus::kSensorRangeInvalid: return "sensor range invalid (need sensor_min < sensor_max)";
     case DesignStatus::kBusy: return "a run is under way: its design cannot change";
     case DesignStatus::kPulseTooLong: return "a pulse length beyond 2^28 samples (float32 accuracy)";
+    case DesignStatus::kOutsideActuatorRange: return "the working interval reaches beyond the board's actuator range";
   }
   return "unknown design status";
 }

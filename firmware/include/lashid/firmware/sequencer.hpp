@@ -100,6 +100,13 @@ class IdentificationSequencer {
   /// Checks and keeps a design; a refused one ends the run (reported, nothing actuated).
   void accept(const RunDesign& d) {
     design_status_ = check_design(d);
+    if constexpr (hal::LimitsActuatorRange<B>) {
+      // Every level lies in [v_min, v_max] (check_design), and so does the validation phase.
+      if (design_status_ == DesignStatus::kOk &&
+          !(d.v_min >= board_.actuator_low() && d.v_max <= board_.actuator_high())) {
+        design_status_ = DesignStatus::kOutsideActuatorRange;
+      }
+    }
     design_ok_ = design_status_ == DesignStatus::kOk;
     if (design_ok_) {
       design_ = d;

@@ -46,6 +46,11 @@ struct HilOptions {
   // Issue 10, plant files and recording:
   std::string plant_file;               ///< play this plant file (io/plant_file.hpp) instead of the scenario's plant
   std::string record;                   ///< write every exchanged sample here as a recording (run_recording.hpp)
+  /// The board drives a physical actuator and reads a physical sensor (an analog image such as the STM32F405's
+  /// lashid_fw_analog): no plant is played and no plant port is opened (QEMU's second UART goes to null; attaching
+  /// takes the link only). The host sends the design and collects the reports; it sees no samples, so there is no
+  /// recording (record must be empty) and no host-board comparison.
+  bool physical_plant = false;
 };
 
 struct HilResult {

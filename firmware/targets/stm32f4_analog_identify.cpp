@@ -1,0 +1,101 @@
+// The identification firmware on an STM32F405 board wired to a physical actuator: the command v leaves on DAC
+// channel 1 (PA4), the plant's output y comes back on one ADC1 channel (PA1 by default), once per sample at
+// LASHID_ANALOG_SAMPLE_HZ on SysTick; USART1 (PA9/PA10) is the link (design, start/stop/query in, reports out), as
+// on every image. The same sequencer as stm32f4_identify.cpp, whose plant is played by `lashid hil` over USART2;
+// here nothing is played: `lashid hil --physical-plant` only sends the design and reads the reports.
+//
+// The analog plan is the image's (CMake cache, firmware/CMakeLists.txt): LASHID_ANALOG_ADC_CHANNEL, LASHID_ANALOG_VREF
+// and the scalings v = V_OFFSET + V_GAIN x (DAC volts), y = Y_OFFSET + Y_GAIN x (ADC volts). A design whose
+// [v_min, v_max] reaches beyond the DAC's 0..Vref in those units is refused (kOutsideActuatorRange); an ADC code of 0
+// or 4095 is a clipped reading, counted as a bad sensor value. In QEMU (netduinoplus2: no DAC, an ADC that answers
+// a sawtooth) the run goes through on the sawtooth: the CTest hil_stm32f405_physical_plant_* checks the loop.
+// Exits with 0 when the run is ok, 10 + RunStatus otherwise, and 9 if the clocks could not be made as planned.
+#include <cstdint>
+
+#include "lashid/firmware/sequencer.hpp"
+#include "lashid/hal/board.hpp"
+#include "lashid/hal/stm32f4.hpp"
+#include "lashid/hal/stm32f4/analog.hpp"
+
+#ifndef LASHID_ANALOG_ADC_CHANNEL
+#error "LASHID_ANALOG_ADC_CHANNEL and the other LASHID_ANALOG_* settings come from firmware/CMakeLists.txt"
+#endif
+
+namespace {
+
+using namespace lashid;
+namespace stm32f4 = hal::stm32f4;
+
+constexpr stm32f4::AnalogPlan kAnalogPlan{
+    LASHID_ANALOG_ADC_CHANNEL,
+    LASHID_ANALOG_VREF,
+    {LASHID_ANALOG_V_OFFSET, LASHID_ANALOG_V_GAIN},
+    {LASHID_ANALOG_Y_OFFSET, LASHID_ANALOG_Y_GAIN},
+};
+static_assert(kAnalogPlan.valid(),
+              "LASHID_ANALOG_*: the ADC channel must be 0-15 but not 4 (PA4 is the DAC's), Vref 1.8-3.6 V, the "
+              "offsets finite and the gains finite and non-zero");
+static_assert(LASHID_ANALOG_SAMPLE_HZ >= 1 && LASHID_ANALOG_SAMPLE_HZ <= 10'000,
+              "LASHID_ANALOG_SAMPLE_HZ: 1 Hz to 10 kHz (a conversion takes 4.6 us, the estimator's step tens of us)");
+
+// A class of this file's anonymous namespace (internal linkage: the sequencer instantiated on it is inlined).
+class Stm32f4AnalogBoard {
+ public:
+  static constexpr std::uint32_t kCyclesPerSecond = stm32f4::kSystemClockHz;
+  static constexpr std::uint32_t kSamplePeriodCycles = stm32f4::kSystemClockHz / LASHID_ANALOG_SAMPLE_HZ;
+
+  /// `emulated`: no RCC was found (QEMU), whose ADC never signals the end of a conversion (analog.hpp).
+  void init(bool emulated) {
+    emulated_ = emulated;
+    platform_.init(kSamplePeriodCycles);
+    stm32f4::start_dac(bus_);
+    stm32f4::start_adc(bus_, kAnalogPlan);
+  }
+
+  /// kOk; kOutOfRange outside the DAC's range (not applied; the design check keeps the sequencer inside it).
+  hal::Status actuate(float v) { return stm32f4::write_dac(bus_, kAnalogPlan, v); }
+  /// kOk; kOutOfRange for a clipped code (0 or 4095); kTimeout or kSensorFault for a conversion that failed.
+  hal::Status measure(float& y) { return stm32f4::read_adc(bus_, kAnalogPlan, y, emulated_); }
+  hal::Status wait_for_sample_tick() { return platform_.wait_for_sample_tick(); }
+  hal::Status link_write(const std::uint8_t* data, std::size_t size) { return platform_.link_write(data, size); }
+  hal::Status link_read(std::uint8_t& byte) { return platform_.link_read(byte); }
+  std::uint32_t cycles() const { return platform_.cycles(); }
+
+  float actuator_low() const { return kAnalogPlan.actuator_low(); }
+  float actuator_high() const { return kAnalogPlan.actuator_high(); }
+  std::size_t stack_high_water_bytes() const { return stm32f4::stack_high_water_bytes(); }
+
+ private:
+  stm32f4::Stm32f4Platform platform_;
+  stm32f4::MmioBus bus_;
+  bool emulated_ = false;
+};
+
+static_assert(hal::Board<Stm32f4AnalogBoard>);
+static_assert(hal::LimitsActuatorRange<Stm32f4AnalogBoard>);
+static_assert(hal::ReportsStackUse<Stm32f4AnalogBoard>);
+static_assert(hal::KnowsCycleRate<Stm32f4AnalogBoard>);
+
+// Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
+Stm32f4AnalogBoard g_board;
+fw::IdentificationSequencer<Stm32f4AnalogBoard> g_sequencer(g_board);
+
+constexpr int kExitClockTree = 9;
+
+void say_clock(stm32f4::ClockStart clock) {
+  stm32f4::semihosting::write("lashid: clocks: ");
+  stm32f4::semihosting::write(stm32f4::to_string(clock));
+  stm32f4::semihosting::write("\n");
+}
+
+}  // namespace
+
+int main() {
+  const stm32f4::ClockStart clock = stm32f4::start_clock_tree();
+  say_clock(clock);
+  if (!stm32f4::runs_as_planned(clock)) return kExitClockTree;
+  g_board.init(clock == stm32f4::ClockStart::kFixedByEmulator);
+  stm32f4::semihosting::write("lashid: analog identification firmware (DAC1 PA4 out, ADC1 in) waiting on USART1\n");
+  const fw::RunStatus status = g_sequencer.run();
+  return status == fw::RunStatus::kOk ? 0 : 10 + static_cast<int>(status);
+}
