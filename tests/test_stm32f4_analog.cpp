@@ -130,6 +130,14 @@ TEST(Stm32f4AnalogPlan, TheRulesOfTheChipAreChecked) {
   plan = AnalogPlan{};
   plan.vref_volts = 5.0F;  // above VDDA's 3.6 V
   EXPECT_FALSE(plan.valid());
+  plan.vref_volts = 2.0F;  // below 2.4 V the 21 MHz ADC clock is beyond the chip's 18 MHz
+  plan.actuator_rest = 1.0F;
+  EXPECT_FALSE(plan.valid());
+  plan = AnalogPlan{};
+  plan.actuator_rest = 3.2F;  // beyond the buffered output's 3.1 V
+  EXPECT_FALSE(plan.valid());
+  EXPECT_FLOAT_EQ(plan.with_rest_at_middle().actuator_rest, 1.65F);
+  EXPECT_TRUE(plan.with_rest_at_middle().valid());
   plan = AnalogPlan{};
   plan.sensor.gain = 0.0F;
   EXPECT_FALSE(plan.valid());
@@ -145,44 +153,67 @@ TEST(Stm32f4AnalogPlan, TheRulesOfTheChipAreChecked) {
   EXPECT_EQ(adc_channel_pin(11).rcc_ahb1enr_bit, 1U << 2);
 }
 
-TEST(Stm32f4Dac, StartsChannel1OnPa4WithItsBufferAndNoTrigger) {
+TEST(Stm32f4Dac, StartsChannel1OnPa4WithItsBufferAndNoTriggerAtTheRestValue) {
   AnalogChipModel chip;
   chip.reg.at(ar::kDacCr) = 0x0001'0000U;  // channel 2 already on (EN2): kept
-  start_dac(chip);
+  AnalogPlan plan;
+  plan.vref_volts = 2.5F;
+  plan.actuator_rest = 0.625F;  // 4095 x 0.625 / 2.5 = 1023.75 -> 1024
+  start_dac(chip, plan);
   EXPECT_TRUE(chip.breaches.empty()) << chip.breaches.front();
   // MODER4 [9:8] = 11 (analog): 0xA800'0000 | 0x300; the debug pins kept.
   EXPECT_EQ(chip.reg.at(ar::kGpioA + ar::kModer), 0xA800'0300U);
   EXPECT_EQ(chip.reg.at(ar::kRccApb1enr), 1U << 29);  // DACEN
   // DAC_CR: EN1 (bit 0), BOFF1 = 0 (buffer on), TEN1 = 0; EN2 (bit 16) kept.
   EXPECT_EQ(chip.reg.at(ar::kDacCr), 0x0001'0001U);
-  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 0U);  // 0 V until the first command
+  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 1024U);  // the rest value until the first command
 }
 
 TEST(Stm32f4Dac, TheDesignsUnitsBecomeTheCodeOfTheirVoltsAndNothingOutsideTheRangeIsWritten) {
   AnalogChipModel chip;
-  start_dac(chip);
-  // v = -2.5 + 2 x (volts at PA4), Vref 2.5 V: v in [-2.5, 2.5].
+  // v = -2.5 + 2 x (volts at PA4), Vref 2.5 V: the buffered output's 0.2-2.3 V is v in [-2.1, 2.1].
   AnalogPlan plan;
   plan.vref_volts = 2.5F;
   plan.actuator = {-2.5F, 2.0F};
-  EXPECT_FLOAT_EQ(plan.actuator_low(), -2.5F);
-  EXPECT_FLOAT_EQ(plan.actuator_high(), 2.5F);
+  plan.actuator_rest = 0.0F;
+  ASSERT_TRUE(plan.valid());
+  start_dac(chip, plan);
+  EXPECT_FLOAT_EQ(plan.actuator_low(), -2.1F);
+  EXPECT_FLOAT_EQ(plan.actuator_high(), 2.1F);
   // v = 1.25: 1.875 V, 4095 x 1.875 / 2.5 = 3071.25 -> 3071.
   EXPECT_EQ(write_dac(chip, plan, 1.25F), Status::kOk);
   EXPECT_EQ(chip.reg.at(ar::kDacDor1), 3071U);
   // v = -1.0: 0.75 V, 4095 x 0.3 = 1228.5 -> 1229 (half up).
   EXPECT_EQ(write_dac(chip, plan, -1.0F), Status::kOk);
   EXPECT_EQ(chip.reg.at(ar::kDacDor1), 1229U);
-  EXPECT_EQ(write_dac(chip, plan, -2.5F), Status::kOk);
-  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 0U);
-  // Within half a code (2.5 x 2 / 4095 / 2 = 0.00061) of the top: the top code.
-  EXPECT_EQ(write_dac(chip, plan, 2.5005F), Status::kOk);
-  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 4095U);
-  // Beyond it, below the bottom, NaN and infinity: refused, the last value stays on the pin.
-  for (const float v : {2.51F, -2.51F, std::nanf(""), INFINITY}) {
+  // v = -2.1: 0.2 V, 4095 x 0.08 = 327.6 -> 328; v = 2.1: 2.3 V, 4095 x 0.92 = 3767.4 -> 3767.
+  EXPECT_EQ(write_dac(chip, plan, -2.1F), Status::kOk);
+  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 328U);
+  EXPECT_EQ(write_dac(chip, plan, 2.1F), Status::kOk);
+  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 3767U);
+  // Within half a code (2 x 0.5 x 2.5 / 4095 = 0.00061 in v) of the top: accepted (2.30025 V: 3767.8 -> 3768).
+  EXPECT_EQ(write_dac(chip, plan, 2.1005F), Status::kOk);
+  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 3768U);
+  // Beyond what the buffered output reaches, NaN and infinity: refused, the last value stays on the pin.
+  for (const float v : {2.11F, -2.11F, 2.5F, -2.5F, std::nanf(""), INFINITY}) {
     EXPECT_EQ(write_dac(chip, plan, v), Status::kOutOfRange) << v;
-    EXPECT_EQ(chip.reg.at(ar::kDacDor1), 4095U) << v;
+    EXPECT_EQ(chip.reg.at(ar::kDacDor1), 3768U) << v;
   }
+}
+
+TEST(Stm32f4Dac, AnInvertingStageHasItsRangeTheRightWayRound) {
+  // v = 3.3 - volts at PA4 (gain -1), Vref 3.3 V: 0.2-3.1 V is v in [0.2, 3.1].
+  AnalogPlan plan;
+  plan.actuator = {3.3F, -1.0F};
+  EXPECT_FLOAT_EQ(plan.actuator_low(), 0.2F);
+  EXPECT_FLOAT_EQ(plan.actuator_high(), 3.1F);
+  EXPECT_TRUE(plan.valid());  // the rest 1.65 lies inside
+  AnalogChipModel chip;
+  start_dac(chip, plan);
+  // v = 1.0: 2.3 V, 4095 x 2.3 / 3.3 = 2854.09 -> 2854.
+  EXPECT_EQ(write_dac(chip, plan, 1.0F), Status::kOk);
+  EXPECT_EQ(chip.reg.at(ar::kDacDor1), 2854U);
+  EXPECT_EQ(write_dac(chip, plan, 3.2F), Status::kOutOfRange);  // 0.1 V
 }
 
 TEST(Stm32f4Adc, StartsOneTwelveBitConversionOfItsChannelAtPclk2Over4) {
@@ -240,16 +271,6 @@ TEST(Stm32f4Adc, AConversionThatNeverEndsIsATimeoutAfterABoundedWait) {
   EXPECT_EQ(read_adc(chip, plan, y), Status::kTimeout);
   EXPECT_EQ(y, 123.0F);  // untouched
   EXPECT_LE(chip.reads - before, ar::kConversionPolls + 2);
-}
-
-TEST(Stm32f4Adc, AnOverrunIsASensorFaultAndIsCleared) {
-  AnalogChipModel chip;
-  AnalogPlan plan;
-  start_adc(chip, plan);
-  chip.reg.at(ar::kAdcSr) = ar::kSrOvr;
-  float y = 0;
-  EXPECT_EQ(read_adc(chip, plan, y), Status::kSensorFault);
-  EXPECT_EQ(chip.reg.at(ar::kAdcSr) & ar::kSrOvr, 0U);
 }
 
 TEST(Stm32f4Adc, UnderQemuTheSawtoothOfItsAdcIsReadWithoutWaitingForEoc) {

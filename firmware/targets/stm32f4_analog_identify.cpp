@@ -6,9 +6,11 @@
 //
 // The analog plan is the image's (CMake cache, firmware/CMakeLists.txt): LASHID_ANALOG_ADC_CHANNEL, LASHID_ANALOG_VREF
 // and the scalings v = V_OFFSET + V_GAIN x (DAC volts), y = Y_OFFSET + Y_GAIN x (ADC volts). A design whose
-// [v_min, v_max] reaches beyond the DAC's 0..Vref in those units is refused (kOutsideActuatorRange); an ADC code of 0
-// or 4095 is a clipped reading, counted as a bad sensor value. In QEMU (netduinoplus2: no DAC, an ADC that answers
-// a sawtooth) the run goes through on the sawtooth: the CTest hil_stm32f405_physical_plant_* checks the loop.
+// [v_min, v_max] reaches beyond what the buffered DAC output reaches (0.2 V to Vref - 0.2 V) in those units is
+// refused (kOutsideActuatorRange); an ADC code of 0 or 4095 is a clipped reading, counted as a bad sensor value. The
+// DAC holds the actuator at its rest (LASHID_ANALOG_V_REST, else the middle of its range) from power-up to the start
+// and again after the run. In QEMU (netduinoplus2: no DAC, an ADC that answers a sawtooth) the run goes through on
+// the sawtooth: the CTest hil_stm32f405_physical_plant_* checks the loop.
 // Exits with 0 when the run is ok, 10 + RunStatus otherwise, and 9 if the clocks could not be made as planned.
 #include <cstdint>
 
@@ -26,15 +28,25 @@ namespace {
 using namespace lashid;
 namespace stm32f4 = hal::stm32f4;
 
-constexpr stm32f4::AnalogPlan kAnalogPlan{
-    LASHID_ANALOG_ADC_CHANNEL,
-    LASHID_ANALOG_VREF,
-    {LASHID_ANALOG_V_OFFSET, LASHID_ANALOG_V_GAIN},
-    {LASHID_ANALOG_Y_OFFSET, LASHID_ANALOG_Y_GAIN},
-};
+// The actuator rests at LASHID_ANALOG_V_REST before and after a run, else in the middle of its range.
+constexpr stm32f4::AnalogPlan analog_plan() {
+  stm32f4::AnalogPlan plan{};
+  plan.adc_channel = LASHID_ANALOG_ADC_CHANNEL;
+  plan.vref_volts = LASHID_ANALOG_VREF;
+  plan.actuator = {LASHID_ANALOG_V_OFFSET, LASHID_ANALOG_V_GAIN};
+  plan.sensor = {LASHID_ANALOG_Y_OFFSET, LASHID_ANALOG_Y_GAIN};
+#ifdef LASHID_ANALOG_V_REST
+  plan.actuator_rest = LASHID_ANALOG_V_REST;
+  return plan;
+#else
+  return plan.with_rest_at_middle();
+#endif
+}
+constexpr stm32f4::AnalogPlan kAnalogPlan = analog_plan();
 static_assert(kAnalogPlan.valid(),
-              "LASHID_ANALOG_*: the ADC channel must be 0-15 but not 4 (PA4 is the DAC's), Vref 1.8-3.6 V, the "
-              "offsets finite and the gains finite and non-zero");
+              "LASHID_ANALOG_*: the ADC channel must be 0-15 but not 4 (PA4 is the DAC's), Vref 2.4-3.6 V, the "
+              "offsets finite, the gains finite and non-zero, and V_REST within what the DAC reaches (0.2 V to "
+              "Vref - 0.2 V through the actuator's scaling)");
 static_assert(LASHID_ANALOG_SAMPLE_HZ >= 1 && LASHID_ANALOG_SAMPLE_HZ <= 10'000,
               "LASHID_ANALOG_SAMPLE_HZ: 1 Hz to 10 kHz (a conversion takes 4.6 us, the estimator's step tens of us)");
 
@@ -48,9 +60,11 @@ class Stm32f4AnalogBoard {
   void init(bool emulated) {
     emulated_ = emulated;
     platform_.init(kSamplePeriodCycles);
-    stm32f4::start_dac(bus_);
+    stm32f4::start_dac(bus_, kAnalogPlan);  // at the rest value
     stm32f4::start_adc(bus_, kAnalogPlan);
   }
+  /// Back to the rest value: after every run, whatever ended it (a refused design, a stop, a fault, the end).
+  void rest() { (void)stm32f4::write_dac(bus_, kAnalogPlan, kAnalogPlan.actuator_rest); }
 
   /// kOk; kOutOfRange outside the DAC's range (not applied; the design check keeps the sequencer inside it).
   hal::Status actuate(float v) { return stm32f4::write_dac(bus_, kAnalogPlan, v); }
@@ -97,5 +111,6 @@ int main() {
   g_board.init(clock == stm32f4::ClockStart::kFixedByEmulator);
   stm32f4::semihosting::write("lashid: analog identification firmware (DAC1 PA4 out, ADC1 in) waiting on USART1\n");
   const fw::RunStatus status = g_sequencer.run();
+  g_board.rest();
   return status == fw::RunStatus::kOk ? 0 : 10 + static_cast<int>(status);
 }

@@ -114,8 +114,9 @@ CLI::App* add_reproduce(CLI::App& app, ReproduceArgs& args) {
 }
 
 CLI::App* add_hil(CLI::App& app, HilArgs& args) {
-  auto* cmd = app.add_subcommand("hil", "Run the firmware in QEMU (or attach to a board) and play the actuator and plant "
-                                        "over its UART, or drive a board with its own (--physical-plant)");
+  auto* cmd = app.add_subcommand("hil",
+                                 "Run the firmware in QEMU (or attach to a board) and play the actuator and plant over "
+                                 "its UART, or drive a board with its own (--physical-plant)");
   auto* fw_opt = cmd->add_option("--firmware", args.firmware, "Firmware ELF to start QEMU with (cross preset build)")
                     ->check(CLI::ExistingFile);
   auto* attach_opt = cmd->add_option("--attach", args.attach,

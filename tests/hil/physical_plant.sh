@@ -4,9 +4,10 @@
 # at each conversion (hw/adc/stm32f2xx_adc.c). Nothing is played: the firmware's own loop of DAC writes and ADC reads
 # must run every sample of the design, and its count of bad sensor values must be the closed form's: the clipped
 # codes 0 and 4095 of the sawtooth 7k mod 4096, k = 1..S (4095 at k = 585 + 4096 j, since 7 x 585 = 4095; 0 at
-# k = 4096 j). For S = 5,002: k = 585, 4096 and 4681, so 3. Then: a design beyond the DAC's 0..3.3 V refused by the
-# firmware before any sample (kOutsideActuatorRange); the link alone attached to a QEMU started here; the options a
-# physical plant cannot have, refused by name.
+# k = 4096 j). For S = 5,002: k = 585, 4096 and 4681, so 3. Then: a design beyond what the DAC reaches refused by
+# the firmware before any sample (kOutsideActuatorRange); the link alone attached to a QEMU started here; the options a
+# physical plant cannot have, refused by name. The image must have the default analog plan (Vref 3.3 V, v and y in
+# volts at the pins: the DAC reaches 0.2-3.1 V), as the stm32f405-release preset configures it.
 # Usage: physical_plant.sh LASHID QEMU FIRMWARE
 set -euo pipefail
 lashid=$1 qemu=$2 firmware=$3
@@ -28,12 +29,13 @@ grep -q "plant physical (the board's own actuator and sensor)" "${dir}/out.txt" 
 [[ "$(field samples "${dir}/run.json")" == 5002 ]] || fail "expected 5002 samples on the board"
 [[ "$(field bad_sensor_values "${dir}/run.json")" == 3 ]] || fail "expected 3 clipped ADC codes (k = 585, 4096, 4681)"
 done_status=$(field done "${dir}/run.json")
+[[ "${done_status}" =~ ^[0-9]+$ ]] || fail "no final report from the firmware"
 [[ "$(field qemu_exit "${dir}/run.json")" == $((done_status == 0 ? 0 : 10 + done_status)) ]] ||
   fail "QEMU's exit status is not the firmware's run status"
 
-# Beyond the DAC: v_max = 3.4 V > Vref = 3.3 V (the image's default plan). The host cannot know the board's range;
-# the firmware refuses, naming it, and drives nothing.
-"${lashid}" design --n 2 --m 4 --v-min 0.3 --v-max 3.4 --operator switch --out "${dir}/beyond.json" >/dev/null
+# Beyond the DAC: v_max = 3.2 V > 3.1 V, the most the buffered output reaches at Vref = 3.3 V. The host cannot know
+# the board's range; the firmware refuses, naming it, and drives nothing.
+"${lashid}" design --n 2 --m 4 --v-min 0.3 --v-max 3.2 --operator switch --out "${dir}/beyond.json" >/dev/null
 if "${lashid}" hil --firmware "${firmware}" --machine netduinoplus2 --physical-plant --config "${dir}/beyond.json" \
   --timeout 60 --json "${dir}/beyond_run.json" >"${dir}/beyond.txt" 2>&1; then
   cat "${dir}/beyond.txt"
@@ -59,14 +61,16 @@ wait "${qemu_pid}" || true
 qemu_pid=""
 
 # What a physical plant cannot have: a recording (the host sees no sample), a played plant, a plant port.
-for extra in "--record ${dir}/r.csv" "--scenario dis_paper" "--compare-host"; do
-  # shellcheck disable=SC2086  # the option and its value are two words
+refuse_with() {
   if "${lashid}" hil --firmware "${firmware}" --machine netduinoplus2 --physical-plant --config "${dir}/design.json" \
-    ${extra} >"${dir}/refused.txt" 2>&1; then
-    fail "--physical-plant ${extra} was accepted"
+    "$@" >"${dir}/refused.txt" 2>&1; then
+    fail "--physical-plant $* was accepted"
   fi
-  grep -q "excludes" "${dir}/refused.txt" || { cat "${dir}/refused.txt"; fail "${extra}: no reason given"; }
-done
+  grep -q "excludes" "${dir}/refused.txt" || { cat "${dir}/refused.txt"; fail "$*: no reason given"; }
+}
+refuse_with --record "${dir}/r.csv"
+refuse_with --scenario dis_paper
+refuse_with --compare-host
 if "${lashid}" hil --attach "${dir}/a.sock" "${dir}/b.sock" --physical-plant --config "${dir}/design.json" \
   >"${dir}/two.txt" 2>&1; then
   fail "two attach paths accepted for a physical plant"

@@ -115,8 +115,8 @@ std::string design_status_message(fw::DesignStatus status, const fw::RunDesign& 
     case S::kMalformed: return "the design message is malformed (wrong length for m, or unknown bytes)";
     case S::kBusy: return "a run is under way: its design cannot change";
     case S::kOutsideActuatorRange:
-      return fmt::format("['v_min', 'v_max'] = [{}, {}] reaches beyond the board's actuator range (its DAC's 0..Vref in "
-                         "the design's units: the image's LASHID_ANALOG_* settings)",
+      return fmt::format("['v_min', 'v_max'] = [{}, {}] reaches beyond the board's actuator range (what its DAC "
+                         "reaches in the design's units: the image's LASHID_ANALOG_* settings)",
                          d.v_min, d.v_max);
     case S::kUnknownOperator: return "'operator' must be \"switch\" or \"backlash\"";
     case S::kOrderOutOfRange:

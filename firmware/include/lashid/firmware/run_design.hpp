@@ -62,7 +62,7 @@ enum class [[nodiscard]] DesignStatus : std::uint8_t {
   kBusy,                ///< a design arrived after the start: a run's design cannot change (the run goes on)
   // Added after the others so that the codes above keep their values on the link; checked after kPulseATooShort.
   kPulseTooLong,        ///< N of a pulse experiment > est::kMaxPulseLength: float32's sums would lose accuracy
-  /// [v_min, v_max] reaches beyond the board's actuator range (hal::LimitsActuatorRange: a DAC's 0..Vref in the
+  /// [v_min, v_max] reaches beyond the board's actuator range (hal::LimitsActuatorRange: what a DAC reaches, in the
   /// design's units); checked by the sequencer after check_design, for a board that has one.
   kOutsideActuatorRange,
 };

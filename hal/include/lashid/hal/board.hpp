@@ -58,9 +58,9 @@ concept ReportsExchangeErrors = requires(const B& board) {
   { board.exchange_retries() } -> std::convertible_to<std::uint32_t>;
 };
 
-/// The actuator's range in the design's units (a DAC's 0..Vref through the board's scaling): the firmware refuses a
-/// design whose working interval [v_min, v_max] reaches beyond it (DesignStatus::kOutsideActuatorRange) instead of
-/// ending the run at its first out-of-range command.
+/// The actuator's range in the design's units (what a DAC reaches, through the board's scaling): the firmware
+/// refuses a design whose working interval [v_min, v_max] reaches beyond it (DesignStatus::kOutsideActuatorRange)
+/// instead of ending the run at its first out-of-range command.
 template <class B>
 concept LimitsActuatorRange = requires(const B& board) {
   { board.actuator_low() } -> std::convertible_to<float>;
