@@ -279,4 +279,57 @@ TEST(FirmwareOnHostBoard, StartQueryAndStopCommands) {
   EXPECT_EQ(reports_of(board).done, static_cast<int>(fw::RunStatus::kStopped));
 }
 
+// kStartStreamSamples on a board whose link writes do not wait: every sample goes out as measured, in blocks that
+// never span a stage change, and the blocks are exactly the board's exchanges, with the samples the firmware set aside
+// (here NaN readings at two chosen samples) flagged. Without the flag nothing is streamed.
+TEST(FirmwareOnHostBoard, StreamsEverySampleAsMeasuredWhenAskedTo) {
+  static_assert(hal::BuffersLinkWrites<NanSensorBoard>);
+  const sim::Scenario& s = sim::find_scenario("dis_paper");  // a backlash: the interval check is streamed too
+  const std::vector<std::size_t> nan_at{100, 2500};
+  for (const bool stream : {true, false}) {
+    NanSensorBoard board(sim::make_scenario_board(s, 3), nan_at);
+    fw::IdentificationSequencer<NanSensorBoard> firmware(board);
+    const auto design = test::design_frame(fw::kDisPaperRun);
+    board.link_input(design.data(), design.size());
+    const std::uint8_t flags = stream ? hal::link::kStartStreamSamples : 0;
+    const auto start = command(hal::link::Command::kStart, {flags});
+    board.link_input(start.data(), start.size());
+    EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);
+    std::vector<std::pair<float, float>> streamed;
+    std::vector<std::size_t> set_aside;
+    std::vector<std::uint32_t> stages_at;  // the sample count at each kStatus
+    for (const hal::link::Frame& f : frames_of(board.link_output())) {
+      if (f.type == MessageType::kStatus) {
+        auto r = f.reader();
+        (void)r.u8();
+        stages_at.push_back(r.u32());
+      }
+      if (f.type != MessageType::kSamples) continue;
+      fw::SampleBlock block;
+      ASSERT_TRUE(block.decode(f.reader()));
+      ASSERT_EQ(block.first, streamed.size());  // in order, none missing
+      for (std::size_t k = 0; k < block.count; ++k) {
+        if ((block.set_aside & (1U << k)) != 0U) set_aside.push_back(streamed.size());
+        streamed.emplace_back(block.v[k], block.y[k]);
+      }
+      // Within one stage: no status count falls strictly inside the block.
+      for (const std::uint32_t at : stages_at) EXPECT_FALSE(at > block.first && at < block.first + block.count);
+    }
+    if (!stream) {
+      EXPECT_TRUE(streamed.empty());
+      continue;
+    }
+    ASSERT_EQ(streamed.size(), board.exchanges().size());
+    EXPECT_EQ(set_aside, nan_at);
+    for (std::size_t k = 0; k < streamed.size(); ++k) {
+      EXPECT_EQ(streamed[k].first, board.exchanges()[k].v) << k;
+      if (k == nan_at[0] || k == nan_at[1]) {
+        EXPECT_TRUE(std::isnan(streamed[k].second)) << k;  // the reading the sensor gave
+      } else {
+        EXPECT_EQ(streamed[k].second, board.exchanges()[k].y) << k;
+      }
+    }
+  }
+}
+
 }  // namespace

@@ -22,11 +22,14 @@ TEST(IsrByteQueue, GivesTheBytesBackInTheOrderTheyCame) {
   IsrByteQueue<8> q;
   std::uint8_t b = 0;
   EXPECT_EQ(q.take(b), Take<8>::kEmpty);
+  EXPECT_EQ(q.room(), 8U);
   for (std::uint8_t i = 1; i <= 5; ++i) EXPECT_TRUE(q.push(i));
   EXPECT_EQ(q.size(), 5U);
+  EXPECT_EQ(q.room(), 3U);  // the producer's view: what it may push without a loss
   for (std::uint8_t i = 1; i <= 5; ++i) {
     ASSERT_EQ(q.take(b), Take<8>::kByte);
     EXPECT_EQ(b, i);
+    EXPECT_EQ(q.room(), 3U + i);
   }
   EXPECT_EQ(q.take(b), Take<8>::kEmpty);
   EXPECT_EQ(q.size(), 0U);

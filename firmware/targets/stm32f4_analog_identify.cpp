@@ -2,7 +2,8 @@
 // channel 1 (PA4), the plant's output y comes back on one ADC1 channel (PA1 by default), once per sample at
 // LASHID_ANALOG_SAMPLE_HZ on SysTick; USART1 (PA9/PA10) is the link (design, start/stop/query in, reports out), as
 // on every image. The same sequencer as stm32f4_identify.cpp, whose plant is played by `lashid hil` over USART2;
-// here nothing is played: `lashid hil --physical-plant` only sends the design and reads the reports.
+// here nothing is played: `lashid hil --physical-plant` sends the design and reads the reports, and with --record
+// the run streams every sample it measured (kSamples) through a transmit queue that USART1's interrupt drains.
 //
 // The analog plan is the image's (CMake cache, firmware/CMakeLists.txt): LASHID_ANALOG_ADC_CHANNEL, LASHID_ANALOG_VREF
 // and the scalings v = V_OFFSET + V_GAIN x (DAC volts), y = Y_OFFSET + Y_GAIN x (ADC volts). A design whose
@@ -54,6 +55,9 @@ static_assert(LASHID_ANALOG_SAMPLE_HZ >= 1 && LASHID_ANALOG_SAMPLE_HZ <= 10'000,
 class Stm32f4AnalogBoard {
  public:
   static constexpr std::uint32_t kCyclesPerSecond = stm32f4::kSystemClockHz;
+  /// The link transmits from a queue that USART1's interrupt drains: the sample loop never waits for the wire, so
+  /// the run may stream its samples (lashid hil --physical-plant --record).
+  static constexpr bool kBuffersLinkWrites = true;
   static constexpr std::uint32_t kSamplePeriodCycles = stm32f4::kSystemClockHz / LASHID_ANALOG_SAMPLE_HZ;
 
   /// `emulated`: no RCC was found (QEMU), whose ADC never signals the end of a conversion (analog.hpp).
@@ -71,7 +75,7 @@ class Stm32f4AnalogBoard {
   /// kOk; kOutOfRange for a clipped code (0 or 4095); kTimeout or kSensorFault for a conversion that failed.
   hal::Status measure(float& y) { return stm32f4::read_adc(bus_, kAnalogPlan, y, emulated_); }
   hal::Status wait_for_sample_tick() { return platform_.wait_for_sample_tick(); }
-  hal::Status link_write(const std::uint8_t* data, std::size_t size) { return platform_.link_write(data, size); }
+  hal::Status link_write(const std::uint8_t* data, std::size_t size) { return stm32f4::queued_link_write(data, size); }
   hal::Status link_read(std::uint8_t& byte) { return platform_.link_read(byte); }
   std::uint32_t cycles() const { return platform_.cycles(); }
 
@@ -89,6 +93,7 @@ static_assert(hal::Board<Stm32f4AnalogBoard>);
 static_assert(hal::LimitsActuatorRange<Stm32f4AnalogBoard>);
 static_assert(hal::ReportsStackUse<Stm32f4AnalogBoard>);
 static_assert(hal::KnowsCycleRate<Stm32f4AnalogBoard>);
+static_assert(hal::BuffersLinkWrites<Stm32f4AnalogBoard>);
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Stm32f4AnalogBoard g_board;
@@ -112,5 +117,6 @@ int main() {
   stm32f4::semihosting::write("lashid: analog identification firmware (DAC1 PA4 out, ADC1 in) waiting on USART1\n");
   const fw::RunStatus status = g_sequencer.run();
   g_board.rest();
+  (void)stm32f4::drain_queued_link();  // the last frames leave before the image ends
   return status == fw::RunStatus::kOk ? 0 : 10 + static_cast<int>(status);
 }

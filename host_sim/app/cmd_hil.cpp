@@ -1,6 +1,8 @@
 // `lashid hil`: the firmware in QEMU identifies the plant the host plays over the emulated UART.
 #include <algorithm>
 #include <cstdio>
+#include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "lashid/estimator/status.hpp"
 #include "lashid/hil/config_design.hpp"
 #include "lashid/hil/hil.hpp"
+#include "lashid/hil/run_recording.hpp"
 #include "lashid/hil/verdict.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/config.hpp"
@@ -64,13 +67,37 @@ nlohmann::json estimate_json(const fw::EstimateRecord& e) {
   return {{"a", a}, {"b", b}, {"F", F}, {"ybar0", e.ybar0}, {"status", e.status}};
 }
 
-// The float32 identification of the run's own recording, as `lashid identify --float` makes it: one record per
-// scheme the firmware reported.
+// The recording as the device estimated from it: the samples it set aside (their run indices in `set_aside`) as
+// NaN, which the estimator leaves out as the firmware did.
+Recording without_set_aside(const Recording& rec, const fw::RunDesign& design,
+                            const std::vector<std::uint64_t>& set_aside) {
+  if (set_aside.empty()) return rec;
+  std::vector<RunSamplePlace> places;
+  for (const std::uint64_t t : set_aside) places.push_back(place_of_sample(design, t));
+  Recording out;
+  for (const Phase phase : rec.order()) {
+    const auto samples = rec.phase(phase);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const bool aside = std::any_of(places.begin(), places.end(), [&](const RunSamplePlace& p) {
+        return p.part == RunSamplePlace::Part::kPhase && p.phase == phase && p.t == i;
+      });
+      out.append(phase, samples[i].v, aside ? std::numeric_limits<double>::quiet_NaN() : samples[i].y);
+    }
+  }
+  return out;
+}
+
+// The float32 identification of the run's own recording, as `lashid identify --float` makes it (with the samples
+// the firmware set aside left out, as it did): one record per scheme the firmware reported.
 std::vector<fw::EstimateRecord> identify_recording(const ExperimentConfig& config, const std::string& path,
-                                                   const std::vector<fw::EstimateRecord>& device) {
-  const Recording rec = read_recording_for(config, path);  // as `lashid identify` reads it
+                                                   const std::vector<fw::EstimateRecord>& device,
+                                                   const fw::RunDesign& design,
+                                                   const std::vector<std::uint64_t>& set_aside) {
+  // As `lashid identify` reads it.
+  const Recording rec = without_set_aside(read_recording_for(config, path), design, set_aside);
   IdentifyOptions f32;
   f32.precision = Precision::kFloat;
+  f32.leave_out_nan_y = true;  // the set-aside samples, as on the device
   std::vector<fw::EstimateRecord> out;
   for (const fw::EstimateRecord& e : device) {
     const SchemeResult s = identify_scheme(config, rec, e.scheme, f32, path);
@@ -177,14 +204,21 @@ int run_checked_hil(const HilArgs& args) {
   rules.attached = !options.attach_link.empty();
   rules.tolerance = args.tolerance;
   HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
-  // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3).
+  // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3), with
+  // the samples the firmware set aside left out as it did (a streamed run says which). A played run's set-aside
+  // samples are not known one by one: with any, the two are not compared.
   const ExperimentConfig* identified_with = config ? &*config : scenario != nullptr ? &scenario->config : nullptr;
   std::string recording_unreadable;
-  if (!args.record.empty() && r.recording_complete && identified_with != nullptr && (verdict.dis || verdict.ais) &&
+  const std::uint32_t set_aside = r.cost ? r.cost->bad_sensor_values : 0;
+  const bool comparable = args.physical_plant ? r.set_aside.size() == set_aside : set_aside == 0;
+  if (!args.record.empty() && r.recording_complete && comparable && identified_with != nullptr &&
+      (verdict.dis || verdict.ais) &&
       identified_with->n <= kMaxOrder && identified_with->m <= kMaxPoints) {
     try {
-      verdict.recording = compare_with_recording(r, verdict, identify_recording(*identified_with, args.record,
-                                                                                r.estimates), args.tolerance);
+      const fw::RunDesign sent = design ? *design : run_design_of(*scenario);
+      verdict.recording = compare_with_recording(
+          r, verdict, identify_recording(*identified_with, args.record, r.estimates, sent, r.set_aside),
+          args.tolerance);
       if (!verdict.recording->equal) verdict.failures.push_back(HilFailure::kDifferentFromRecording);
     } catch (const DataError& e) {
       // The host cannot identify what the firmware recorded (e.g. a sample beyond the estimator's range): a failed
@@ -211,7 +245,8 @@ int run_checked_hil(const HilArgs& args) {
                fw::to_string(static_cast<fw::DesignStatus>(r.design_status)));
   }
   if (args.physical_plant) {
-    fmt::print("  host: the plant is the board's; {} protocol errors on the link\n", r.protocol_errors);
+    fmt::print("  host: the plant is the board's; {} samples streamed, {} protocol errors on the link\n", r.samples,
+               r.protocol_errors);
   } else {
     fmt::print("  host: {} plant samples, {} repeated requests answered from cache, {} protocol errors, {} frames "
                "damaged on purpose\n",
@@ -232,6 +267,11 @@ int run_checked_hil(const HilArgs& args) {
       fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
                  r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
     }
+  }
+  if (!args.record.empty() && r.recording_complete && !comparable) {
+    fmt::print("  on-device estimates vs `lashid identify --float` on {}: not compared: the firmware set aside {} bad "
+               "sensor values that the recording holds as measured\n",
+               args.record, set_aside);
   }
   if (!recording_unreadable.empty()) {
     fmt::print("  the recording could not be identified on the host: {}\n", recording_unreadable);

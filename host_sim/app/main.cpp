@@ -141,7 +141,8 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   auto* physical = cmd->add_flag("--physical-plant", args.physical_plant,
                                  "The board drives its own actuator and reads its own sensor (an analog image, e.g. "
                                  "the STM32F405's lashid_fw_analog.elf: DAC out, ADC in): nothing is played, the "
-                                 "design (--config) is sent and the reports read on the link alone")
+                                 "design (--config) is sent and the reports read on the link alone; with --record the "
+                                 "firmware streams every sample it measured")
                        ->needs(config)
                        ->excludes(scenario);
   // One callback per subcommand (a second call of callback() replaces the first).
@@ -161,11 +162,11 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
   auto* plant = cmd->add_option("--plant", args.plant,
                                 "Play this plant file (JSON, docs/data-format.md) instead of the scenario's")
                     ->check(CLI::ExistingFile);
-  auto* record = cmd->add_option("--record", args.record,
-                                 "Write every exchanged sample (v commanded, y answered) as a recording (CSV), flushed "
-                                 "while the run goes on; a run that stops early keeps what it measured (marked "
-                                 "partial)");
-  physical->excludes(plant)->excludes(record);
+  cmd->add_option("--record", args.record,
+                  "Write every exchanged sample (v commanded, y answered; with --physical-plant, as the firmware "
+                  "streams them) as a recording (CSV), flushed while the run goes on; a run that stops early keeps "
+                  "what it measured (marked partial)");
+  physical->excludes(plant);
   cmd->add_option("--seed", args.seed, "Noise seed of the plant")->check(kNonNegativeSeed)->capture_default_str();
   cmd->add_option("--machine", args.machine,
                   "QEMU machine: mps2-an386 (M4F), mps2-an500 (M7), mps2-an385 (M3), netduinoplus2 (STM32F405)")

@@ -4,7 +4,10 @@
 # at each conversion (hw/adc/stm32f2xx_adc.c). Nothing is played: the firmware's own loop of DAC writes and ADC reads
 # must run every sample of the design, and its count of bad sensor values must be the closed form's: the clipped
 # codes 0 and 4095 of the sawtooth 7k mod 4096, k = 1..S (4095 at k = 585 + 4096 j, since 7 x 585 = 4095; 0 at
-# k = 4096 j). For S = 5,002: k = 585, 4096 and 4681, so 3. Then: a design beyond what the DAC reaches refused by
+# k = 4096 j). For S = 5,002: k = 585, 4096 and 4681, so 3. With --record the firmware streams its samples (kSamples
+# through its interrupt-driven transmitter): the recording's k-th y must be that sawtooth, 3.3 x (7k mod 4096) / 4095
+# volts, every row in order, with the 3 set-aside samples marked; the host's identification of it, without them as
+# on the device, must equal the device's estimates; and `lashid diagnose` must take it. Then: a design beyond what the DAC reaches refused by
 # the firmware before any sample (kOutsideActuatorRange); the link alone attached to a QEMU started here; the options a
 # physical plant cannot have, refused by name. The image must have the default analog plan (Vref 3.3 V, v and y in
 # volts at the pins: the DAC reaches 0.2-3.1 V), as the stm32f405-release preset configures it.
@@ -22,12 +25,29 @@ field() { sed -n "s/^ *\"$1\": *\\([-0-9]*\\),\\?\$/\\1/p" "$2" | head -1; }
 "${lashid}" design --n 2 --m 4 --v-min 0.3 --v-max 3.0 --operator switch --step-length 1000 --pulse-length 1000 \
   --val-length 1000 --out "${dir}/design.json" >/dev/null
 "${lashid}" hil --firmware "${firmware}" --machine netduinoplus2 --physical-plant --config "${dir}/design.json" \
-  --timeout 120 --json "${dir}/run.json" >"${dir}/out.txt" 2>&1 || true  # the sawtooth is no plant: status aside
+  --timeout 120 --record "${dir}/rec.csv" --json "${dir}/run.json" >"${dir}/out.txt" 2>&1 ||
+  true  # the sawtooth is no plant: its status aside
 cat "${dir}/out.txt"
 grep -q "plant physical (the board's own actuator and sensor)" "${dir}/out.txt" || fail "not run as a physical plant"
 [[ "$(field design_status "${dir}/run.json")" == 0 ]] || fail "design not accepted"
 [[ "$(field samples "${dir}/run.json")" == 5002 ]] || fail "expected 5002 samples on the board"
 [[ "$(field bad_sensor_values "${dir}/run.json")" == 3 ]] || fail "expected 3 clipped ADC codes (k = 585, 4096, 4681)"
+grep -q "recorded 5002 samples to ${dir}/rec.csv" "${dir}/out.txt" || fail "the streamed recording is not complete"
+# The recording holds the 3 clipped values as measured, each followed by a comment; the device left them out, and so
+# does the host's identification it is compared with: it must equal the device's estimates.
+[[ "$(grep -c "the firmware set aside the row above" "${dir}/rec.csv")" == 3 ]] ||
+  fail "the 3 set-aside samples are not marked in the recording"
+grep -Eq "on-device estimates vs .lashid identify --float. on .*: equal" "${dir}/out.txt" ||
+  fail "the host's identification of the streamed recording differs from the device's estimates"
+# Data row i (from 0) is sample i, the ADC's conversion i + 1: code 7 (i + 1) mod 4096.
+awk -F, '!/^#/ && $1 != "phase" {
+  code = (7 * (n + 1)) % 4096; expected = 3.3 * code / 4095; n++
+  if ($4 - expected > 1e-5 || expected - $4 > 1e-5) { printf "row %d: y %s, expected %.7f\n", n, $4, expected; bad++ }
+} END { if (n != 5002 || bad > 0) { printf "%d rows, %d wrong\n", n, bad; exit 1 } }' "${dir}/rec.csv" ||
+  fail "the streamed y is not QEMU's ADC sawtooth"
+"${lashid}" diagnose --config "${dir}/design.json" --data "${dir}/rec.csv" >"${dir}/diagnose.txt" 2>&1 ||
+  { cat "${dir}/diagnose.txt"; fail "lashid diagnose did not take the streamed recording"; }
+grep -q "^causes: " "${dir}/diagnose.txt" || fail "lashid diagnose named no cause"
 done_status=$(field done "${dir}/run.json")
 [[ "${done_status}" =~ ^[0-9]+$ ]] || fail "no final report from the firmware"
 [[ "$(field qemu_exit "${dir}/run.json")" == $((done_status == 0 ? 0 : 10 + done_status)) ]] ||
@@ -60,7 +80,7 @@ cat "${dir}/attached.txt"
 wait "${qemu_pid}" || true
 qemu_pid=""
 
-# What a physical plant cannot have: a recording (the host sees no sample), a played plant, a plant port.
+# What a physical plant cannot have: a played plant, a host-board comparison, a plant port.
 refuse_with() {
   if "${lashid}" hil --firmware "${firmware}" --machine netduinoplus2 --physical-plant --config "${dir}/design.json" \
     "$@" >"${dir}/refused.txt" 2>&1; then
@@ -68,7 +88,6 @@ refuse_with() {
   fi
   grep -q "excludes" "${dir}/refused.txt" || { cat "${dir}/refused.txt"; fail "$*: no reason given"; }
 }
-refuse_with --record "${dir}/r.csv"
 refuse_with --scenario dis_paper
 refuse_with --compare-host
 if "${lashid}" hil --attach "${dir}/a.sock" "${dir}/b.sock" --physical-plant --config "${dir}/design.json" \

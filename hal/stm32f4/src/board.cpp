@@ -40,7 +40,16 @@ Status Stm32f4Platform::link_read(std::uint8_t& byte) { return cortex_m::read_li
 
 }  // namespace lashid::hal::stm32f4
 
-// USART1's interrupt (RM0090 Table 61, position 37), raised by RXNE or ORE with RXNEIE set. Reading SR then DR clears
+// The transmit half of USART1's interrupt when no queued transmitter is linked (queued_link_tx.cpp replaces it): TXEIE
+// is never set then; should it be, it is cleared, so that the interrupt does not fire forever.
+extern "C" __attribute__((weak)) void lashid_link_tx_interrupt() {
+  using namespace lashid::hal::stm32f4::detail;
+  constexpr std::uintptr_t cr1 = lashid::hal::stm32f4::kUsart1.base + kUsartCr1;
+  reg(cr1) = reg(cr1) & ~kCr1Txeie;
+}
+
+// USART1's interrupt (RM0090 Table 61, position 37), raised by RXNE or ORE with RXNEIE set, and by TXE with TXEIE set
+// (an image with the queued transmitter, lashid_link_tx_interrupt). Reading SR then DR clears
 // RXNE and the error flags (30.6.1). On an overrun DR still holds the last good byte (the later ones are lost): it is
 // kept, and the loss marked after it. A byte with a framing, noise or parity error is itself damaged: dropped, and
 // marked as lost.
@@ -49,6 +58,7 @@ extern "C" void LinkRx_IRQHandler() {
   constexpr std::uintptr_t base = lashid::hal::stm32f4::kUsart1.base;
   lashid::hal::cortex_m::LinkRxQueue& queue = lashid::hal::cortex_m::link_rx_queue();
   const std::uint32_t sr = reg(base + kUsartSr);
+  if ((sr & kSrTxe) != 0U && (reg(base + kUsartCr1) & kCr1Txeie) != 0U) lashid_link_tx_interrupt();
   if ((sr & (kSrRxne | kSrOre | kSrFe | kSrNf | kSrPe)) == 0U) return;
   const auto byte = static_cast<std::uint8_t>(reg(base + kUsartDr) & 0xFFU);
   if ((sr & (kSrFe | kSrNf | kSrPe)) != 0U) {

@@ -28,6 +28,7 @@ inline constexpr std::uint32_t kSrTxe = 1U << 7;   // transmit data register emp
 // CR1 bits (30.6.4); M = 0 (8 data bits), OVER8 = 0 (16x oversampling), PCE = 0 (no parity)
 inline constexpr std::uint32_t kCr1Re = 1U << 2;
 inline constexpr std::uint32_t kCr1Rxneie = 1U << 5;  // interrupt on RXNE or ORE
+inline constexpr std::uint32_t kCr1Txeie = 1U << 7;   // interrupt on TXE
 inline constexpr std::uint32_t kCr1Te = 1U << 3;
 inline constexpr std::uint32_t kCr1Ue = 1U << 13;
 

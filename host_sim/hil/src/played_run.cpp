@@ -40,15 +40,17 @@ AnyPlant played_plant(const HilOptions& options, const fw::RunDesign& design) {
 
 void start_recording(std::optional<RunRecorder>& recorder, const HilOptions& options, const fw::RunDesign& design) {
   if (options.record.empty()) return;
-  if (options.physical_plant) {
-    throw std::invalid_argument("hil: no recording of a physical plant: the host sees none of its samples");
-  }
-  const std::string plant = options.plant_file.empty() ? fmt::format("scenario {}", options.scenario)
-                                                       : fmt::format("plant file {}", options.plant_file);
+  const std::string plant = options.physical_plant           ? std::string("a physical plant (the board's own)")
+                            : options.plant_file.empty() ? fmt::format("scenario {}, seed {}", options.scenario,
+                                                                       options.seed)
+                                                         : fmt::format("plant file {}, seed {}", options.plant_file,
+                                                                       options.seed);
   std::vector<std::string> comments{
-      fmt::format("lashid hil: {}, {}, seed {}", options.firmware.empty() ? "attached QEMU" : options.firmware,
-                  plant, options.seed),
-      "v: the command the firmware sent; y: the measurement the host answered (both float32, as on the link)",
+      fmt::format("lashid hil: {}, {}", options.firmware.empty() ? "attached board" : options.firmware, plant),
+      options.physical_plant
+          ? "v: the command the firmware gave its actuator; y: what its sensor measured (both float32, streamed on "
+            "the link)"
+          : "v: the command the firmware sent; y: the measurement the host answered (both float32, as on the link)",
       fmt::format("design: {}, n = {}, m = {}, [v_min, v_max] = [{}, {}], L = {}, N_d = {}, N_a = {}, val {} "
                   "samples (seed {})",
                   design.op == fw::OperatorKind::kBacklash ? "backlash" : "switch", design.n, design.m,

@@ -46,21 +46,22 @@ RunRecorder::RunRecorder(const std::filesystem::path& path, const fw::RunDesign&
                          const std::vector<std::string>& comment_lines)
     : stream_(path, comment_lines), design_(design) {}
 
-void RunRecorder::sample(std::uint64_t t, float v, float y) {
-  if (t < next_t_ || gap_) return;  // a retry of a recorded t, or past a lost sample
+bool RunRecorder::sample(std::uint64_t t, float v, float y) {
+  if (t < next_t_ || gap_) return false;  // a retry of a recorded t, or past a lost sample
   if (t > next_t_) {
     gap_ = true;
     stream_.comment(fmt::format("sample t = {} of the run never arrived: nothing after it is recorded", next_t_));
-    return;
+    return false;
   }
   ++next_t_;
   const RunSamplePlace place = place_of_sample(design_, t);
-  if (place.part == RunSamplePlace::Part::kIntervalCheck) return;
+  if (place.part == RunSamplePlace::Part::kIntervalCheck) return false;
   if (place.part == RunSamplePlace::Part::kAfterRun) {
     ++beyond_design_;
-    return;
+    return false;
   }
   stream_.append(place.phase, static_cast<double>(v), static_cast<double>(y));
+  return true;
 }
 
 void RunRecorder::finish(std::string_view how_it_ended) {

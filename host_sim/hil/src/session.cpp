@@ -79,7 +79,10 @@ class Session {
         qemu_(qemu),
         fds_(fds),
         result_(result),
-        peer_(std::move(plant), recorder, options.corrupt_every, result) {}
+        peer_(std::move(plant), recorder, options.corrupt_every, result),
+        streamed_recorder_(options.physical_plant ? recorder : nullptr),
+        start_flags_(static_cast<std::uint8_t>(
+            link::kStartHoldReports | (streamed_recorder_ != nullptr ? link::kStartStreamSamples : 0U))) {}
 
   void run() {
     const auto start = Clock::now();
@@ -181,7 +184,7 @@ class Session {
         return false;
       case Step::kDesign:
         if (result_.design_status == 0) {
-          enter(Step::kStart, command(link::Command::kStart, link::kStartHoldReports), now);
+          enter(Step::kStart, command(link::Command::kStart, start_flags_), now);
         } else if (result_.design_status > 0) {
           step_ = Step::kRun;  // refused: the firmware reports and ends the run without starting
         } else {
@@ -192,7 +195,7 @@ class Session {
         if (firmware_running()) {
           step_ = Step::kRun;
         } else {
-          resend_if_due(now, command(link::Command::kStart, link::kStartHoldReports));
+          resend_if_due(now, command(link::Command::kStart, start_flags_));
         }
         return false;
       case Step::kRun:
@@ -226,6 +229,10 @@ class Session {
       if (r == link::FrameDecoder::Result::kDropped) ++result_.protocol_errors;
       if (r != link::FrameDecoder::Result::kFrame) continue;
       const link::Frame& f = link_decoder_.frame();
+      if (f.type == link::MessageType::kSamples) {
+        on_samples(f);
+        continue;
+      }
       collect(f, result_);
       if (f.type != link::MessageType::kStatus) continue;
       auto reader = f.reader();
@@ -236,6 +243,26 @@ class Session {
       if (stage != stage_ && options_.on_progress) options_.on_progress(stage, samples);
       stage_ = stage;
     }
+  }
+
+  // A physical plant's samples as the firmware streamed them (kStartStreamSamples): into the recording, by their
+  // index in the run. A block lost on the link leaves a gap, which the recording reports (partial).
+  void on_samples(const link::Frame& f) {
+    fw::SampleBlock block;
+    if (streamed_recorder_ == nullptr || !block.decode(f.reader())) {
+      ++result_.protocol_errors;
+      return;
+    }
+    for (std::size_t k = 0; k < block.count; ++k) {
+      const std::uint64_t t = std::uint64_t{block.first} + k;
+      const bool recorded = streamed_recorder_->sample(t, block.v[k], block.y[k]);
+      if ((block.set_aside & (1U << k)) == 0U || !recorded) continue;
+      result_.set_aside.push_back(t);
+      streamed_recorder_->note(fmt::format("the firmware set aside the row above (sample {} of the run) as a bad "
+                                           "sensor value: its y is as measured, the device did not estimate from it",
+                                           t));
+    }
+    result_.samples += block.count;
   }
 
   void on_plant_bytes(const std::uint8_t* data, std::size_t size) {
@@ -348,6 +375,8 @@ class Session {
   SessionFds& fds_;
   HilResult& result_;
   PlantPeer peer_;
+  RunRecorder* streamed_recorder_;  // a physical plant's recording, from the streamed samples (else null)
+  std::uint8_t start_flags_;
   link::FrameDecoder link_decoder_;
   // Each direction of each UART has its own draws: the faults of one do not depend on the traffic of another.
   Line to_link_{options_, 0}, from_link_{options_, 1}, to_plant_{options_, 2}, from_plant_{options_, 3};

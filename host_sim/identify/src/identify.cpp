@@ -12,8 +12,10 @@ namespace lashid::sim {
 SchemeResult identify_scheme(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
                              const IdentifyOptions& options, std::string_view data_name) {
   // The recursive estimator in both precisions: grouped least squares (estimator/grouped_rls.hpp).
-  if (options.precision == Precision::kFloat) return detail::run<float>(config, recording, scheme, data_name);
-  return detail::run<double>(config, recording, scheme, data_name);
+  if (options.precision == Precision::kFloat) {
+    return detail::run<float>(config, recording, scheme, data_name, options.leave_out_nan_y);
+  }
+  return detail::run<double>(config, recording, scheme, data_name, options.leave_out_nan_y);
 }
 
 est::CrossCheck<double> cross_check(const ExperimentConfig& config, const SchemeResult& dis, const SchemeResult& ais) {

@@ -2,5 +2,5 @@
 #include "identify_dispatch.hpp"
 
 namespace lashid::sim::detail {
-template SchemeResult run<float>(const ExperimentConfig&, const Recording&, est::Scheme, std::string_view);
+template SchemeResult run<float>(const ExperimentConfig&, const Recording&, est::Scheme, std::string_view, bool);
 }  // namespace lashid::sim::detail

@@ -195,6 +195,55 @@ struct CostRecord {
   }
 };
 
+/// Consecutive samples of a run as the board measured them (kSamples, with kStartStreamSamples): the command v and
+/// the measured y of the run's samples first .. first + count - 1 (the run's sample index: samples exchanged before
+/// it, interval check included), y as measured, and which of them the firmware set aside as bad sensor values (bit k
+/// of set_aside: a clipped or out-of-range reading, left out of the estimates).
+struct SampleBlock {
+  /// 4 + 1 + 2 + 14 x 8 = 119 bytes of the 128 a frame holds.
+  static constexpr std::size_t kCapacity = 14;
+  std::uint32_t first = 0;
+  std::uint8_t count = 0;
+  std::uint16_t set_aside = 0;
+  std::array<float, kCapacity> v{};
+  std::array<float, kCapacity> y{};
+
+  static constexpr std::size_t encoded_size(std::size_t count) { return 4 + 1 + 2 + 8 * count; }
+  bool full() const { return count == kCapacity; }
+  /// Appends sample `index`; the first of a block sets `first`. The caller sends a full block before the next.
+  void add(std::uint32_t index, float v_sample, float y_sample, bool bad) {
+    if (count == 0) {
+      first = index;
+      set_aside = 0;
+    }
+    v[count] = v_sample;
+    y[count] = y_sample;
+    if (bad) set_aside = static_cast<std::uint16_t>(set_aside | (1U << count));
+    ++count;
+  }
+  void encode(hal::link::PayloadWriter& w) const {
+    w.u32(first);
+    w.u8(count);
+    w.u16(set_aside);
+    for (std::size_t k = 0; k < count; ++k) {
+      w.f32(v[k]);
+      w.f32(y[k]);
+    }
+  }
+  bool decode(hal::link::PayloadReader r) {
+    first = r.u32();
+    count = r.u8();
+    set_aside = r.u16();
+    if (count == 0 || count > kCapacity || (set_aside >> count) != 0U) return false;
+    for (std::size_t k = 0; k < count; ++k) {
+      v[k] = r.f32();
+      y[k] = r.f32();
+    }
+    return r.ok() && r.at_end();
+  }
+};
+
+static_assert(SampleBlock::encoded_size(SampleBlock::kCapacity) <= hal::link::kMaxPayload);
 static_assert(EstimateRecord::encoded_size(kMaxRecordOrder, kMaxRecordPoints) <= hal::link::kMaxPayload,
               "the estimate of the largest design the image accepts must fit one link frame");
 static_assert(CrossCheckRecord::kEncodedSize <= hal::link::kMaxPayload);

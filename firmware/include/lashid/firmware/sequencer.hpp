@@ -8,7 +8,9 @@
 //   -> done [-> holding the reports: sent again on kReport, until kFinish or kReportHoldSeconds].
 // Each stage change is announced with a kStatus frame (progress for the host). Commands over the link
 // (hal/link_protocol.hpp): design, start, stop, query, report, finish. A sensor value that is NaN, infinite or
-// outside the design's sensor range is counted (CostRecord::bad_sensor_values) and never estimated from.
+// outside the design's sensor range is counted (CostRecord::bad_sensor_values) and never estimated from. On a board
+// whose link writes do not wait (hal::BuffersLinkWrites), a start with kStartStreamSamples also sends every sample
+// as measured (kSamples, SampleBlock), for the host's recording of a plant it does not play.
 // Heap-free, no exceptions, float32.
 #pragma once
 
@@ -23,6 +25,7 @@
 #include "lashid/firmware/messages.hpp"
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/firmware/run_report.hpp"
+#include "lashid/firmware/sample_stream.hpp"
 #include "lashid/firmware/validation_excitation.hpp"
 #include "lashid/hal/board.hpp"
 #include "lashid/hal/link_protocol.hpp"
@@ -116,6 +119,7 @@ class IdentificationSequencer {
   }
 
   void enter(Stage next) {
+    flush_samples();  // a block never spans two stages: each frame's samples are sent before the status
     stage_ = next;
     t_ = 0;
     phase_ = 0;
@@ -131,9 +135,15 @@ class IdentificationSequencer {
   }
 
   void finish(RunStatus status) {
+    flush_samples();
     result_ = status;
     stage_ = Stage::kReport;
   }
+
+  auto samples_sender() {
+    return [this](const hal::link::PayloadWriter& w) { send(hal::link::MessageType::kSamples, w); };
+  }
+  void flush_samples() { samples_.flush(samples_sender()); }
 
   /// One plant exchange at the next sample instant. False (and the run is finished) on a board failure.
   /// A bad sensor value (kOutOfRange from the board, or a value that is not finite or outside the design's sensor
@@ -154,7 +164,9 @@ class IdentificationSequencer {
       finish(RunStatus::kSensorFault);
       return false;
     }
-    if (s == hal::Status::kOutOfRange || !design_.sensor_value_ok(y)) {
+    const bool bad = s == hal::Status::kOutOfRange || !design_.sensor_value_ok(y);
+    samples_.add(cost_.samples, v, y, bad, samples_sender());  // as measured (with kStartStreamSamples)
+    if (bad) {
       ++cost_.bad_sensor_values;
       y = std::numeric_limits<float>::quiet_NaN();
     }
@@ -355,7 +367,10 @@ class IdentificationSequencer {
     if (f.size == 0) return;
     const auto command = static_cast<Command>(f.payload[0]);
     if (command == Command::kStart && f.size <= 2) {
-      if (stage_ == Stage::kIdle && f.size == 2) hold_reports_ = (f.payload[1] & hal::link::kStartHoldReports) != 0;
+      if (stage_ == Stage::kIdle && f.size == 2) {
+        hold_reports_ = (f.payload[1] & hal::link::kStartHoldReports) != 0;
+        samples_.start((f.payload[1] & hal::link::kStartStreamSamples) != 0);
+      }
       started_ = true;
       return;
     }
@@ -382,6 +397,7 @@ class IdentificationSequencer {
   bool started_ = false;
   bool design_ok_ = false;
   bool hold_reports_ = false;
+  [[no_unique_address]] SampleStream<hal::BuffersLinkWrites<B>> samples_{};
   std::uint32_t hold_start_ = 0;
   DesignStatus design_status_ = DesignStatus::kMalformed;  // no design yet
   RunDesign design_{};

@@ -67,6 +67,12 @@ concept LimitsActuatorRange = requires(const B& board) {
   { board.actuator_high() } -> std::convertible_to<float>;
 };
 
+/// link_write queues its bytes and returns without waiting for the wire (an interrupt- or DMA-driven transmitter, or
+/// memory): the firmware may then stream every sample on the link (kStartStreamSamples) without delaying the sample
+/// clock. A board whose link_write waits for each byte does not model it, and never streams.
+template <class B>
+concept BuffersLinkWrites = B::kBuffersLinkWrites;
+
 /// The rate of cycles() in cycles per second, known at compile time: lets the firmware bound waits in time (the
 /// hold of its reports after a run) without a clock of its own.
 template <class B>

@@ -1,5 +1,6 @@
 // The bytes a UART's receive interrupt takes off the wire, kept until the firmware's next poll (hal::Board's
-// link_read). A UART without a FIFO holds one byte: the sequencer polls the link once per sample (1 ms), in which
+// link_read); or, the other way round, the bytes the main loop queues for a transmit interrupt to put on the wire
+// (the producer then checks room() first and pushes whole frames). A UART without a FIFO holds one byte: the sequencer polls the link once per sample (1 ms), in which
 // time 11 bytes arrive at 115200 baud, so a command sent during a run would overrun it. The interrupt moves each byte
 // here within a character time instead.
 //
@@ -74,6 +75,12 @@ class IsrByteQueue {
 
   /// Bytes lost since the start (the producer's count; for reports).
   std::uint32_t lost() const { return lost_.load(std::memory_order_relaxed); }
+
+  /// Producer: bytes that can be pushed now without a loss (the consumer may free more meanwhile, never fewer).
+  std::size_t room() const {
+    return Capacity -
+           static_cast<std::size_t>(head_.load(std::memory_order_relaxed) - tail_.load(std::memory_order_acquire));
+  }
 
   /// Consumer: bytes waiting.
   std::size_t size() const {

@@ -34,12 +34,16 @@ enum class MessageType : std::uint8_t {
   kEstimate = 0x20,     ///< firmware -> host: one scheme's estimate (EstimateRecord)
   kCrossCheck = 0x21,   ///< firmware -> host: Remark 3b cross-check (CrossCheckRecord)
   kCost = 0x22,         ///< firmware -> host: footprint and cost (CostRecord)
+  /// firmware -> host, with kStartStreamSamples: consecutive samples of the run as the board measured them
+  /// (SampleBlock: u32 first index, u8 count, count x (f32 v, f32 y)), for the recording of a plant the host does
+  /// not play.
+  kSamples = 0x23,
   kLog = 0x30,          ///< firmware -> host: text
   kDone = 0x3F,         ///< firmware -> host: u8 overall status (0 = ok); the run is over
 };
 
 /// The payload of kCommand: the command byte, then the command's arguments.
-///   kStart [flags]  start the run of the design received (kStartHoldReports: see below)
+///   kStart [flags]  start the run of the design received (kStartHoldReports, kStartStreamSamples: see below)
 ///   kStop           end the run now (its reports are sent)
 ///   kQuery          answered with a kStatus
 ///   kReport         after the run: send every report again (estimates, cross-check, cost, done); a host that lost
@@ -51,6 +55,9 @@ enum class Command : std::uint8_t { kStart = 1, kStop = 2, kQuery = 3, kReport =
 /// kStart flag: after the reports, hold them (answer kReport) until kFinish or the board's hold time, so that a
 /// report lost on the link can be asked for again. Without it the run ends as soon as the reports are sent.
 inline constexpr std::uint8_t kStartHoldReports = 0x01;
+/// kStart flag: send every sample of the run as measured (kSamples frames), on a board whose link writes do not wait
+/// for the wire (hal::BuffersLinkWrites); other boards ignore it. The host records a plant it does not play so.
+inline constexpr std::uint8_t kStartStreamSamples = 0x02;
 
 /// CRC-16/CCITT-FALSE, bitwise (small code; a table would cost 512 bytes of flash for no measurable gain here).
 /// The arithmetic is in `unsigned` (no signed promotions): bits above 15 only ever move left, never into the low

@@ -19,6 +19,9 @@ namespace lashid::hal {
 template <PlantModel Plant>
 class HostBoard {
  public:
+  /// The link is memory: writes never wait (hal::BuffersLinkWrites), so a run may stream its samples.
+  static constexpr bool kBuffersLinkWrites = true;
+
   struct Exchange {
     float v;
     float y;

@@ -72,6 +72,18 @@ inline constexpr UsartPort kUsart1{0x4001'1000, kRccBase + 0x44, 1U << 4, kApb2C
 /// APB1ENR.USART2EN; PA2/PA3.
 inline constexpr UsartPort kUsart2{0x4000'4400, kRccBase + 0x40, 1U << 17, kApb1ClockHz, kUsart2PinsPA2PA3};
 
+/// The link's transmitter through a queue that USART1's interrupt drains (on TXE), for an image whose sample loop
+/// must not wait for the wire (hal::BuffersLinkWrites: the analog image streams its samples). Queues all `size`
+/// bytes, never part of them (a frame is not split), once there is room: kOk; kTimeout (no room within
+/// kLinkTxWaitCycles: nothing queued); kLinkError (more bytes than the queue holds). Images that do not call it
+/// transmit by polling (Usart::write) and link none of it.
+inline constexpr std::size_t kLinkTxQueueBytes = 256;  // two full frames (124 bytes each)
+inline constexpr std::uint32_t kLinkTxWaitCycles = kSystemClockHz / 10;  // 100 ms: 1,150 bytes at 115200 baud
+Status queued_link_write(const std::uint8_t* data, std::size_t size);
+/// Waits (at most kLinkTxWaitCycles) until every queued byte has left USART1's shift register (SR.TC): before the
+/// image ends, so that its last reports are not cut. kOk or kTimeout.
+Status drain_queued_link();
+
 /// The board's clock tree (kClockPlan) on the chip's registers: call it first in main, before any peripheral, and
 /// stop unless runs_as_planned(): every baud rate and sample period assumes kClockPlan's clocks.
 ClockStart start_clock_tree();

@@ -48,8 +48,9 @@ struct HilOptions {
   std::string record;                   ///< write every exchanged sample here as a recording (run_recording.hpp)
   /// The board drives a physical actuator and reads a physical sensor (an analog image such as the STM32F405's
   /// lashid_fw_analog): no plant is played and no plant port is opened (QEMU's second UART goes to null; attaching
-  /// takes the link only). The host sends the design and collects the reports; it sees no samples, so there is no
-  /// recording (record must be empty) and no host-board comparison.
+  /// takes the link only). The host sends the design and collects the reports; with `record`, the start asks the
+  /// firmware to stream every sample it measures (kStartStreamSamples) and the recording is made of them. No
+  /// host-board comparison.
   bool physical_plant = false;
 };
 
@@ -69,6 +70,9 @@ struct HilResult {
   std::uint32_t host_retries = 0;
   std::string console;                ///< what the firmware printed (semihosting)
   std::uint64_t recorded = 0;         ///< samples written to HilOptions::record
+  /// Streamed runs (physical plant): the run's sample indices the firmware set aside as bad sensor values (a clipped
+  /// or out-of-range reading); the recording holds them as measured.
+  std::vector<std::uint64_t> set_aside;
   bool recording_complete = false;    ///< every sample of the design's phases was recorded
 };
 

@@ -47,7 +47,10 @@ class RunRecorder {
               const std::vector<std::string>& comment_lines);
 
   /// Sample t of the run: the command v the firmware sent and the y the plant answered, as they crossed the link.
-  void sample(std::uint64_t t, float v, float y);
+  /// Whether it became a row (not a retry, not past a gap, not the interval check, not beyond the design).
+  bool sample(std::uint64_t t, float v, float y);
+  /// A comment row here (e.g. about the row just written).
+  void note(std::string_view text) { stream_.comment(text); }
 
   /// Renames the recording onto its path. A run that ended before the design's last sample keeps what it measured:
   /// a comment row at the end says the recording is partial, why (`how_it_ended`, e.g. "firmware status: sensor

@@ -23,6 +23,10 @@ enum class Precision { kDouble, kFloat };
 // the dispatch would cost minutes of compile time for no user-facing benefit.
 struct IdentifyOptions {
   Precision precision = Precision::kDouble;
+  /// A sample whose y is NaN is left out, as the firmware leaves out a bad sensor value, instead of being an error
+  /// naming it: for `lashid hil`'s check of a streamed recording against the device's estimates (the samples the
+  /// firmware set aside are NaN there). Files read by `lashid identify` never hold NaN.
+  bool leave_out_nan_y = false;
 };
 
 /// One scheme's estimate, in the paper's order and the scaling of (3.11c).
