@@ -13,6 +13,7 @@
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hil/hil.hpp"
 #include "lashid/identify/identify.hpp"
+#include "lashid/io/data_error.hpp"
 #include "lashid/sim/scenario.hpp"
 #include "firmware_reports.hpp"
 #include "link_frames.hpp"
@@ -330,6 +331,47 @@ TEST(FirmwareOnHostBoard, StreamsEverySampleAsMeasuredWhenAskedTo) {
       }
     }
   }
+}
+
+// The device leaves out a bad reading and every row that holds it as a lag; `identify --float` with
+// leave_out_nan_y (hil's check of a streamed recording) must leave out the same rows and give the same estimates,
+// whether the NaN falls in a row's y or only in its lags. Without the option a NaN is an error naming it.
+TEST(FirmwareOnHostBoard, TheHostLeavesOutTheSetAsideSamplesAsTheDeviceDoes) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");  // DIS pulses are run samples 2001..10000
+  const std::vector<std::size_t> nan_at{2001 + 1000, 2001 + 1002, 2001 + 5000, 12002 + 3000};
+  NanSensorBoard board(sim::make_scenario_board(s, 7), nan_at);
+  fw::IdentificationSequencer<NanSensorBoard> firmware(board, fw::kAisPaperRun);
+  ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
+  sim::SimulationOptions options;
+  options.seed = 7;
+  options.validation_phase = false;
+  const sim::Recording clean = sim::simulate(s, options);
+  sim::Recording rec;
+  std::size_t k = 0;
+  for (const sim::Phase p : clean.order()) {
+    for (const sim::Sample& x : clean.phase(p)) {
+      const bool aside = std::find(nan_at.begin(), nan_at.end(), k++) != nan_at.end();
+      rec.append(p, x.v, aside ? std::nan("") : x.y);
+    }
+  }
+  sim::IdentifyOptions f32;
+  f32.precision = sim::Precision::kFloat;
+  EXPECT_THROW((void)sim::identify_scheme(s.config, rec, est::Scheme::kDescending, f32, "rec"), sim::DataError);
+  f32.leave_out_nan_y = true;
+  const Reports r = reports_of(board);
+  ASSERT_EQ(r.estimates.size(), 2u);
+  for (const auto& e : r.estimates) {
+    const sim::SchemeResult cli = sim::identify_scheme(s.config, rec, e.scheme, f32, "rec");
+    EXPECT_EQ(e.status, static_cast<int>(est::Status::kOk));
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_FLOAT_EQ(e.a[i], static_cast<float>(cli.a[i]));
+      EXPECT_FLOAT_EQ(e.b[i], static_cast<float>(cli.b[i]));
+    }
+    for (std::size_t j = 0; j < 6; ++j) EXPECT_FLOAT_EQ(e.F[j], static_cast<float>(cli.F[j]));
+  }
+  // Rows left out: per NaN its own row and the n = 2 rows that lag it; those of 1000 and 1002 overlap in row 1002
+  // (rows 1000-1004): 5 + 3 + 3.
+  EXPECT_EQ(r.cost.rejected_samples, 11u);
 }
 
 }  // namespace

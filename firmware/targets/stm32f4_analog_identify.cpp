@@ -56,8 +56,12 @@ class Stm32f4AnalogBoard {
  public:
   static constexpr std::uint32_t kCyclesPerSecond = stm32f4::kSystemClockHz;
   /// The link transmits from a queue that USART1's interrupt drains: the sample loop never waits for the wire, so
-  /// the run may stream its samples (lashid hil --physical-plant --record).
-  static constexpr bool kBuffersLinkWrites = true;
+  /// the run may stream its samples (lashid hil --physical-plant --record), if the link can carry them: a full
+  /// kSamples frame is 126 bytes for 14 samples, 9 bytes a sample, and 115200 baud carries 11,520 bytes/s, 1,280
+  /// samples/s. Above kMaxStreamedSampleHz (a margin for the status frames) the queue would fill and the samples come
+  /// late: the image does not stream then.
+  static constexpr std::uint32_t kMaxStreamedSampleHz = 1200;
+  static constexpr bool kBuffersLinkWrites = LASHID_ANALOG_SAMPLE_HZ <= kMaxStreamedSampleHz;
   static constexpr std::uint32_t kSamplePeriodCycles = stm32f4::kSystemClockHz / LASHID_ANALOG_SAMPLE_HZ;
 
   /// `emulated`: no RCC was found (QEMU), whose ADC never signals the end of a conversion (analog.hpp).
@@ -93,7 +97,7 @@ static_assert(hal::Board<Stm32f4AnalogBoard>);
 static_assert(hal::LimitsActuatorRange<Stm32f4AnalogBoard>);
 static_assert(hal::ReportsStackUse<Stm32f4AnalogBoard>);
 static_assert(hal::KnowsCycleRate<Stm32f4AnalogBoard>);
-static_assert(hal::BuffersLinkWrites<Stm32f4AnalogBoard>);
+static_assert(hal::BuffersLinkWrites<Stm32f4AnalogBoard> == (LASHID_ANALOG_SAMPLE_HZ <= 1200));
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Stm32f4AnalogBoard g_board;

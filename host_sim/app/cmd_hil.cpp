@@ -67,20 +67,21 @@ nlohmann::json estimate_json(const fw::EstimateRecord& e) {
   return {{"a", a}, {"b", b}, {"F", F}, {"ybar0", e.ybar0}, {"status", e.status}};
 }
 
-// The recording as the device estimated from it: the samples it set aside (their run indices in `set_aside`) as
-// NaN, which the estimator leaves out as the firmware did.
+// The recording as the device estimated from it: the samples it set aside as NaN, which the estimator leaves out as
+// the firmware did. Those a streamed run named (their run indices in `set_aside`), and any y outside the design's
+// sensor range (the firmware's own float test: a played plant's answers are not named one by one).
 Recording without_set_aside(const Recording& rec, const fw::RunDesign& design,
                             const std::vector<std::uint64_t>& set_aside) {
-  if (set_aside.empty()) return rec;
   std::vector<RunSamplePlace> places;
   for (const std::uint64_t t : set_aside) places.push_back(place_of_sample(design, t));
   Recording out;
   for (const Phase phase : rec.order()) {
     const auto samples = rec.phase(phase);
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      const bool aside = std::any_of(places.begin(), places.end(), [&](const RunSamplePlace& p) {
-        return p.part == RunSamplePlace::Part::kPhase && p.phase == phase && p.t == i;
-      });
+      const bool aside = !design.sensor_value_ok(static_cast<float>(samples[i].y)) ||
+                         std::any_of(places.begin(), places.end(), [&](const RunSamplePlace& p) {
+                           return p.part == RunSamplePlace::Part::kPhase && p.phase == phase && p.t == i;
+                         });
       out.append(phase, samples[i].v, aside ? std::numeric_limits<double>::quiet_NaN() : samples[i].y);
     }
   }
@@ -205,12 +206,12 @@ int run_checked_hil(const HilArgs& args) {
   rules.tolerance = args.tolerance;
   HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
   // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3), with
-  // the samples the firmware set aside left out as it did (a streamed run says which). A played run's set-aside
-  // samples are not known one by one: with any, the two are not compared.
+  // the samples the firmware set aside left out as it did (without_set_aside). A streamed run must have named every
+  // one it counted; otherwise the two are not compared, and that is said.
   const ExperimentConfig* identified_with = config ? &*config : scenario != nullptr ? &scenario->config : nullptr;
   std::string recording_unreadable;
   const std::uint32_t set_aside = r.cost ? r.cost->bad_sensor_values : 0;
-  const bool comparable = args.physical_plant ? r.set_aside.size() == set_aside : set_aside == 0;
+  const bool comparable = !args.physical_plant || r.set_aside.size() == set_aside;
   if (!args.record.empty() && r.recording_complete && comparable && identified_with != nullptr &&
       (verdict.dis || verdict.ais) &&
       identified_with->n <= kMaxOrder && identified_with->m <= kMaxPoints) {
@@ -270,8 +271,13 @@ int run_checked_hil(const HilArgs& args) {
   }
   if (!args.record.empty() && r.recording_complete && !comparable) {
     fmt::print("  on-device estimates vs `lashid identify --float` on {}: not compared: the firmware set aside {} bad "
-               "sensor values that the recording holds as measured\n",
-               args.record, set_aside);
+               "sensor values and named {}\n",
+               args.record, set_aside, r.set_aside.size());
+  }
+  if (args.physical_plant && !args.record.empty() && r.samples == 0 && r.cost && r.cost->samples > 0) {
+    fmt::print("  the firmware streamed none of its {} samples: its board does not stream (hal::BuffersLinkWrites: "
+               "the STM32F405 analog image streams at sample rates its link can carry, docs/platform.md)\n",
+               r.cost->samples);
   }
   if (!recording_unreadable.empty()) {
     fmt::print("  the recording could not be identified on the host: {}\n", recording_unreadable);

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <algorithm>
 #include <chrono>
 #include <fstream>
@@ -255,14 +256,26 @@ class Session {
     }
     for (std::size_t k = 0; k < block.count; ++k) {
       const std::uint64_t t = std::uint64_t{block.first} + k;
-      const bool recorded = streamed_recorder_->sample(t, block.v[k], block.y[k]);
-      if ((block.set_aside & (1U << k)) == 0U || !recorded) continue;
-      result_.set_aside.push_back(t);
-      streamed_recorder_->note(fmt::format("the firmware set aside the row above (sample {} of the run) as a bad "
-                                           "sensor value: its y is as measured, the device did not estimate from it",
-                                           t));
+      const bool aside = (block.set_aside & (1U << k)) != 0U;
+      // Every one the firmware counted, the interval check's too: the check against its estimates needs them all.
+      if (aside && std::find(result_.set_aside.begin(), result_.set_aside.end(), t) == result_.set_aside.end()) {
+        result_.set_aside.push_back(t);
+      }
+      if (!std::isfinite(block.v[k]) || !std::isfinite(block.y[k])) {
+        streamed_recorder_->end_here(fmt::format("sample {} of the run is not finite (v = {}, y = {}): a recording "
+                                                 "cannot hold it, nothing after it is recorded",
+                                                 t, block.v[k], block.y[k]));
+        continue;
+      }
+      if (streamed_recorder_->sample(t, block.v[k], block.y[k]) && aside) {
+        streamed_recorder_->note(fmt::format("the firmware set aside the row above (sample {} of the run) as a bad "
+                                             "sensor value: its y is as measured, the device did not estimate from "
+                                             "it",
+                                             t));
+      }
     }
-    result_.samples += block.count;
+    // Samples streamed: up to the highest index received (a duplicated block counts once).
+    result_.samples = std::max<std::uint32_t>(result_.samples, block.first + block.count);
   }
 
   void on_plant_bytes(const std::uint8_t* data, std::size_t size) {

@@ -61,10 +61,13 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   }
   const auto feed = [&](Phase phase, auto add) {
     const auto samples = recording.phase(phase);
+    // Samples since the last NaN y of the phase (IdentifyOptions::leave_out_nan_y): a row whose y or any of its n
+    // lags is NaN is left out by the estimator, as on the device, and is no error then.
+    std::size_t since_nan = static_cast<std::size_t>(config.n) + 1;
     for (std::size_t t = 0; t < samples.size(); ++t) {
+      since_nan = std::isnan(samples[t].y) ? 0 : since_nan + 1;
       const est::Status s = add(static_cast<Scalar>(samples[t].v), static_cast<Scalar>(samples[t].y));
-      // The estimator has left the row out; a set-aside sample (IdentifyOptions::leave_out_nan_y) is no error.
-      if (s == est::Status::kNonFinite && leave_out_nan_y && std::isnan(samples[t].y)) continue;
+      if (s == est::Status::kNonFinite && leave_out_nan_y && since_nan <= static_cast<std::size_t>(config.n)) continue;
       if (s != est::Status::kOk) {
         throw DataError(data_name, fmt::format("phase {} t = {}: {}", to_string(phase), t,
                                                describe(s, config, scheme, samples[t].v)));

@@ -35,8 +35,8 @@ enum class MessageType : std::uint8_t {
   kCrossCheck = 0x21,   ///< firmware -> host: Remark 3b cross-check (CrossCheckRecord)
   kCost = 0x22,         ///< firmware -> host: footprint and cost (CostRecord)
   /// firmware -> host, with kStartStreamSamples: consecutive samples of the run as the board measured them
-  /// (SampleBlock: u32 first index, u8 count, count x (f32 v, f32 y)), for the recording of a plant the host does
-  /// not play.
+  /// (SampleBlock: u32 first index, u8 count, u16 set-aside bits, count x (f32 v, f32 y)), for the recording of a
+  /// plant the host does not play.
   kSamples = 0x23,
   kLog = 0x30,          ///< firmware -> host: text
   kDone = 0x3F,         ///< firmware -> host: u8 overall status (0 = ok); the run is over

@@ -77,7 +77,7 @@ inline constexpr UsartPort kUsart2{0x4000'4400, kRccBase + 0x40, 1U << 17, kApb1
 /// bytes, never part of them (a frame is not split), once there is room: kOk; kTimeout (no room within
 /// kLinkTxWaitCycles: nothing queued); kLinkError (more bytes than the queue holds). Images that do not call it
 /// transmit by polling (Usart::write) and link none of it.
-inline constexpr std::size_t kLinkTxQueueBytes = 256;  // two full frames (124 bytes each)
+inline constexpr std::size_t kLinkTxQueueBytes = 256;  // two full frames (126 bytes each)
 inline constexpr std::uint32_t kLinkTxWaitCycles = kSystemClockHz / 10;  // 100 ms: 1,150 bytes at 115200 baud
 Status queued_link_write(const std::uint8_t* data, std::size_t size);
 /// Waits (at most kLinkTxWaitCycles) until every queued byte has left USART1's shift register (SR.TC): before the

@@ -51,6 +51,12 @@ class RunRecorder {
   bool sample(std::uint64_t t, float v, float y);
   /// A comment row here (e.g. about the row just written).
   void note(std::string_view text) { stream_.comment(text); }
+  /// Nothing after this point is recorded (a sample a recording cannot hold), and `why` says so here.
+  void end_here(std::string_view why) {
+    if (gap_) return;
+    stream_.comment(why);
+    gap_ = true;
+  }
 
   /// Renames the recording onto its path. A run that ended before the design's last sample keeps what it measured:
   /// a comment row at the end says the recording is partial, why (`how_it_ended`, e.g. "firmware status: sensor
