@@ -28,6 +28,22 @@ using test::frames_of;
 using test::reports_of;
 using test::Reports;
 
+// Both schemes' reported estimates equal `identify --float` (with `options`) on `rec`: a, b, F and ybar0, n = 2, m = 6.
+void expect_cli_estimates(const Reports& r, const sim::ExperimentConfig& config, const sim::Recording& rec,
+                          const sim::IdentifyOptions& options) {
+  ASSERT_EQ(r.estimates.size(), 2u);
+  for (const auto& e : r.estimates) {
+    const sim::SchemeResult cli = sim::identify_scheme(config, rec, e.scheme, options, "rec");
+    EXPECT_EQ(e.status, static_cast<int>(est::Status::kOk));
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_FLOAT_EQ(e.a[i], static_cast<float>(cli.a[i]));
+      EXPECT_FLOAT_EQ(e.b[i], static_cast<float>(cli.b[i]));
+    }
+    for (std::size_t j = 0; j < 6; ++j) EXPECT_FLOAT_EQ(e.F[j], static_cast<float>(cli.F[j]));
+    EXPECT_FLOAT_EQ(e.ybar0, static_cast<float>(cli.ybar0));
+  }
+}
+
 TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
   // AIS example (switch: no interval check), so the firmware's samples are exactly simulate()'s phases.
   const sim::Scenario& s = sim::find_scenario("ais_paper");
@@ -52,18 +68,8 @@ TEST(FirmwareOnHostBoard, EqualsTheCliEstimatorOnTheSameRecording) {
   sim::IdentifyOptions f32;
   f32.precision = sim::Precision::kFloat;
   const Reports r = reports_of(board);
-  ASSERT_EQ(r.estimates.size(), 2u);
   EXPECT_EQ(r.done, static_cast<int>(fw::RunStatus::kOk));
-  for (const auto& e : r.estimates) {
-    const sim::SchemeResult cli = sim::identify_scheme(s.config, rec, e.scheme, f32, "rec");
-    EXPECT_EQ(e.status, static_cast<int>(est::Status::kOk));
-    for (std::size_t i = 0; i < 2; ++i) {
-      EXPECT_FLOAT_EQ(e.a[i], static_cast<float>(cli.a[i]));
-      EXPECT_FLOAT_EQ(e.b[i], static_cast<float>(cli.b[i]));
-    }
-    for (std::size_t j = 0; j < 6; ++j) EXPECT_FLOAT_EQ(e.F[j], static_cast<float>(cli.F[j]));
-    EXPECT_FLOAT_EQ(e.ybar0, static_cast<float>(cli.ybar0));
-  }
+  expect_cli_estimates(r, s.config, rec, f32);
   // Remark 3b on a plant that is what the model says: the DIS and AIS linear estimates agree.
   EXPECT_EQ(r.cross.disagree, 0) << "max z " << r.cross.max_z;
   EXPECT_GT(r.cross.max_z, 0.0f);
@@ -359,16 +365,7 @@ TEST(FirmwareOnHostBoard, TheHostLeavesOutTheSetAsideSamplesAsTheDeviceDoes) {
   EXPECT_THROW((void)sim::identify_scheme(s.config, rec, est::Scheme::kDescending, f32, "rec"), sim::DataError);
   f32.leave_out_nan_y = true;
   const Reports r = reports_of(board);
-  ASSERT_EQ(r.estimates.size(), 2u);
-  for (const auto& e : r.estimates) {
-    const sim::SchemeResult cli = sim::identify_scheme(s.config, rec, e.scheme, f32, "rec");
-    EXPECT_EQ(e.status, static_cast<int>(est::Status::kOk));
-    for (std::size_t i = 0; i < 2; ++i) {
-      EXPECT_FLOAT_EQ(e.a[i], static_cast<float>(cli.a[i]));
-      EXPECT_FLOAT_EQ(e.b[i], static_cast<float>(cli.b[i]));
-    }
-    for (std::size_t j = 0; j < 6; ++j) EXPECT_FLOAT_EQ(e.F[j], static_cast<float>(cli.F[j]));
-  }
+  expect_cli_estimates(r, s.config, rec, f32);
   // Rows left out: per NaN its own row and the n = 2 rows that lag it; those of 1000 and 1002 overlap in row 1002
   // (rows 1000-1004): 5 + 3 + 3.
   EXPECT_EQ(r.cost.rejected_samples, 11u);
