@@ -1,6 +1,7 @@
 // libFuzzer target: the host's side of the link (untrusted bytes from a UART): the frame decoder, and every report
-// record's decoder on each frame's payload, as `lashid hil` decodes them (firmware/messages.hpp). Nothing may crash;
-// a decoded estimate must have n, m within the records' capacity. The record decoders also get the input's first
+// record's decoder on each frame's payload, as `lashid hil` decodes them (firmware/messages.hpp), the streamed sample
+// blocks' too. Nothing may crash; a decoded estimate must have n, m within the records' capacity, a decoded sample
+// block 1 to 14 samples. The record decoders also get the input's first
 // bytes directly as a payload: through the frame decoder only inputs with a matching CRC reach them, and a long run
 // then explored no record shape but the seeds' (n = 2, m = 6; docs/reliability.md).
 #include <algorithm>
@@ -26,6 +27,11 @@ void decode_records(const lashid::hal::link::PayloadReader& payload) {
   fw::RunDesign d;
   if (d.decode(payload) == fw::DesignStatus::kOk && d.m > fw::kMaxPoints) std::abort();
   (void)fw::check_design(d);
+  // A streamed block (kSamples): a decoded one holds 1..kCapacity samples and flags none beyond them.
+  fw::SampleBlock b;
+  if (b.decode(payload) && (b.count == 0 || b.count > fw::SampleBlock::kCapacity || (b.set_aside >> b.count) != 0U)) {
+    std::abort();
+  }
 }
 
 }  // namespace
