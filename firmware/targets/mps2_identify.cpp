@@ -8,6 +8,9 @@
 #include "lashid/hal/mps2.hpp"
 #include "remote_identification_board.hpp"
 
+// For `lashid hil`: this image's plant is played over its plant port (not --physical-plant).
+LASHID_CORTEX_M_PLANT_TAG("port");
+
 namespace {
 
 using namespace lashid;

@@ -20,6 +20,9 @@
 #include "lashid/hal/stm32f4.hpp"
 #include "lashid/hal/stm32f4/analog.hpp"
 
+// For `lashid hil`: this image's plant is its own (run it with --physical-plant).
+LASHID_CORTEX_M_PLANT_TAG("own");
+
 #ifndef LASHID_ANALOG_ADC_CHANNEL
 #error "LASHID_ANALOG_ADC_CHANNEL and the other LASHID_ANALOG_* settings come from firmware/CMakeLists.txt"
 #endif

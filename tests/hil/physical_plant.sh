@@ -9,7 +9,8 @@
 # volts, every row in order, with the 3 set-aside samples marked; the host's identification of it, without them as
 # on the device, must equal the device's estimates; and `lashid diagnose` must take it. Then: a design beyond what the DAC reaches refused by
 # the firmware before any sample (kOutsideActuatorRange); the link alone attached to a QEMU started here; the options a
-# physical plant cannot have, refused by name. The image must have the default analog plan (Vref 3.3 V, v and y in
+# physical plant cannot have, and the wrong mode for an image (the analog image played, the plant-port image
+# lashid_fw.elf beside it as a physical plant), refused by name. The image must have the default analog plan (Vref 3.3 V, v and y in
 # volts at the pins: the DAC reaches 0.2-3.1 V), as the stm32f405-release preset configures it.
 # Usage: physical_plant.sh LASHID QEMU FIRMWARE
 set -euo pipefail
@@ -90,6 +91,20 @@ refuse_with() {
 }
 refuse_with --scenario dis_paper
 refuse_with --compare-host
+# The wrong mode for an image is refused before QEMU starts, by the image's own tag (section .lashid.plant).
+if "${lashid}" hil --firmware "${firmware}" --machine netduinoplus2 --scenario dis_paper --timeout 30 \
+  >"${dir}/own.txt" 2>&1; then
+  fail "the analog image was run with a played plant"
+fi
+grep -q "drives its own actuator and sensor (an analog image): run it with --physical-plant" "${dir}/own.txt" ||
+  { cat "${dir}/own.txt"; fail "the analog image without --physical-plant: no reason given"; }
+played_image="$(dirname "${firmware}")/lashid_fw.elf"
+if "${lashid}" hil --firmware "${played_image}" --machine netduinoplus2 --physical-plant --config "${dir}/design.json" \
+  --timeout 30 >"${dir}/port.txt" 2>&1; then
+  fail "the plant-port image was run as a physical plant"
+fi
+grep -q "has its plant played over its plant port" "${dir}/port.txt" ||
+  { cat "${dir}/port.txt"; fail "the plant-port image with --physical-plant: no reason given"; }
 if "${lashid}" hil --attach "${dir}/a.sock" "${dir}/b.sock" --physical-plant --config "${dir}/design.json" \
   >"${dir}/two.txt" 2>&1; then
   fail "two attach paths accepted for a physical plant"

@@ -17,7 +17,8 @@ namespace {
 constexpr std::size_t kHeaderSize = 52;                // ELF32 header
 constexpr std::size_t kSectionHeaderSize = 40;         // ELF32 section header
 constexpr std::size_t kMaxImageBytes = std::size_t{64} << 20;  // larger than any Cortex-M image; a bound on what is read
-constexpr const char* kTagSection = ".lashid.machine";
+constexpr const char* kMachineSection = ".lashid.machine";
+constexpr const char* kPlantSection = ".lashid.plant";
 
 std::uint32_t le32(const std::vector<unsigned char>& b, std::size_t at) {
   return static_cast<std::uint32_t>(b[at]) | static_cast<std::uint32_t>(b[at + 1]) << 8 |
@@ -64,7 +65,10 @@ bool is_arm_elf(const std::string& path) {
   return arm_elf_header(header);
 }
 
-std::optional<std::string> elf_machine_tag(const std::string& path) {
+namespace {
+
+// The NUL-terminated string in the image's section `wanted`.
+std::optional<std::string> section_string(const std::string& path, const char* wanted) {
   const std::vector<unsigned char> b = read_image(path);
   if (!arm_elf_header(b)) return std::nullopt;
   const std::size_t shoff = le32(b, 32), entsize = le16(b, 46), count = le16(b, 48), names = le16(b, 50);
@@ -74,12 +78,18 @@ std::optional<std::string> elf_machine_tag(const std::string& path) {
   if (names_offset + names_size > b.size()) return std::nullopt;
   for (std::size_t i = 0; i < count; ++i) {
     const std::size_t name = le32(b, section(i));
-    if (name >= names_size || string_at(b, names_offset + name, names_offset + names_size) != kTagSection) continue;
+    if (name >= names_size || string_at(b, names_offset + name, names_offset + names_size) != wanted) continue;
     const std::size_t offset = le32(b, section(i) + 16), size = le32(b, section(i) + 20);
     if (offset + size > b.size()) return std::nullopt;
     return string_at(b, offset, offset + size);
   }
   return std::nullopt;
 }
+
+}  // namespace
+
+std::optional<std::string> elf_machine_tag(const std::string& path) { return section_string(path, kMachineSection); }
+
+std::optional<std::string> elf_plant_tag(const std::string& path) { return section_string(path, kPlantSection); }
 
 }  // namespace lashid::sim::detail

@@ -1,4 +1,4 @@
-// Private to the hil layer: the two facts `lashid hil` reads from a firmware image before it boots it in QEMU.
+// Private to the hil layer: the facts `lashid hil` reads from a firmware image before it boots it in QEMU.
 #pragma once
 
 #include <optional>
@@ -14,5 +14,9 @@ bool is_arm_elf(const std::string& path);
 /// (LASHID_CORTEX_M_MACHINE_TAG, lashid/hal/cortex_m.hpp). std::nullopt when the image has no such section (an image
 /// from elsewhere: it is run as it is) or its section table cannot be read.
 std::optional<std::string> elf_machine_tag(const std::string& path);
+
+/// Where the image's plant is: "port" (played over a plant-port UART) or "own" (the board's own actuator and sensor),
+/// from its section `.lashid.plant` (LASHID_CORTEX_M_PLANT_TAG); std::nullopt as for the machine.
+std::optional<std::string> elf_plant_tag(const std::string& path);
 
 }  // namespace lashid::sim::detail

@@ -53,6 +53,23 @@ void check_machine(const HilOptions& options) {
       preset != nullptr ? fmt::format(", or build the image for {} (preset {})", options.machine, preset) : ""));
 }
 
+// An image whose plant is its own waits for a design on its link while nothing plays its plant port, and an image
+// whose plant is played waits on a plant port nobody answers: both run into the time limit. Refused before QEMU starts.
+void check_plant(const HilOptions& options) {
+  const std::optional<std::string> plant = detail::elf_plant_tag(options.firmware);
+  if (plant == "own" && !options.physical_plant) {
+    throw std::runtime_error(fmt::format("hil: firmware '{}' drives its own actuator and sensor (an analog image): run "
+                                         "it with --physical-plant and --config",
+                                         options.firmware));
+  }
+  if (plant == "port" && options.physical_plant) {
+    throw std::runtime_error(fmt::format("hil: firmware '{}' has its plant played over its plant port: "
+                                         "--physical-plant needs an image with its own actuator and sensor (e.g. "
+                                         "lashid_fw_analog.elf of preset stm32f405-release)",
+                                         options.firmware));
+  }
+}
+
 }  // namespace
 
 HilResult run_hil(const HilOptions& options) {
@@ -72,7 +89,10 @@ HilResult run_hil(const HilOptions& options) {
                              "' is not an ARM ELF image (a cross preset builds one: "
                              "build/cm4f-release/firmware/lashid_fw.elf)");
   }
-  if (!attach) check_machine(options);
+  if (!attach) {
+    check_machine(options);
+    check_plant(options);
+  }
   // The design sent (options.design or the scenario's), the plant played (the scenario's or a plant file's) and
   // the recording, opened before QEMU starts (played_run.hpp).
   const fw::RunDesign design = detail::run_design_of(options);

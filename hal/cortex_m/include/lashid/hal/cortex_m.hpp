@@ -37,6 +37,11 @@ const char* core_name();
 /// machine, where it would only fault or hang until the time limit. An image without it is run as it is.
 #define LASHID_CORTEX_M_MACHINE_TAG(name) \
   __asm__(".pushsection .lashid.machine,\"\",%progbits\n\t.asciz \"" name "\"\n\t.popsection")
+/// Names, the same way (section `.lashid.plant`, not loaded), where the image's plant is: "port" (played by `lashid
+/// hil` over a plant-port UART) or "own" (the board's own actuator and sensor: `lashid hil --physical-plant`). `lashid
+/// hil` refuses a run whose mode does not match, which would otherwise wait on a UART until its time limit.
+#define LASHID_CORTEX_M_PLANT_TAG(kind) \
+  __asm__(".pushsection .lashid.plant,\"\",%progbits\n\t.asciz \"" kind "\"\n\t.popsection")
 /// CPUID.PartNo expected on the machine the image was linked for (0xC23 Cortex-M3, 0xC24 M4, 0xC27 M7; defined by the
 /// board library) and the one the CPU reports: they differ when an image runs on the wrong -machine.
 std::uint32_t expected_cpu_part();
