@@ -262,7 +262,13 @@ int run_checked_hil(const HilArgs& args) {
                r.host_retries, r.cost ? r.cost->retries : 0);
   }
   if (!args.record.empty()) {
-    if (r.recorded == 0) {
+    const bool none_streamed = args.physical_plant && r.samples == 0 && r.cost && r.cost->samples > 0;
+    if (r.recorded == 0 && none_streamed) {
+      fmt::print("  no recording written: the firmware measured {} samples but streamed none: its board does not "
+                 "stream (hal::BuffersLinkWrites: the STM32F405 analog image streams at sample rates its link can "
+                 "carry, up to 1,200 Hz; docs/platform.md) ({} keeps what it held)\n",
+                 r.cost->samples, args.record);
+    } else if (r.recorded == 0) {
       fmt::print("  no recording written: not a sample was measured ({} keeps what it held)\n", args.record);
     } else {
       fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
@@ -273,11 +279,6 @@ int run_checked_hil(const HilArgs& args) {
     fmt::print("  on-device estimates vs `lashid identify --float` on {}: not compared: the firmware set aside {} bad "
                "sensor values and named {}\n",
                args.record, set_aside, r.set_aside.size());
-  }
-  if (args.physical_plant && !args.record.empty() && r.samples == 0 && r.cost && r.cost->samples > 0) {
-    fmt::print("  the firmware streamed none of its {} samples: its board does not stream (hal::BuffersLinkWrites: "
-               "the STM32F405 analog image streams at sample rates its link can carry, docs/platform.md)\n",
-               r.cost->samples);
   }
   if (!recording_unreadable.empty()) {
     fmt::print("  the recording could not be identified on the host: {}\n", recording_unreadable);

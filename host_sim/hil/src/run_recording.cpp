@@ -2,6 +2,7 @@
 #include "lashid/hil/run_recording.hpp"
 
 #include <array>
+#include <cmath>
 #include <utility>
 
 #include <fmt/format.h>
@@ -58,6 +59,12 @@ bool RunRecorder::sample(std::uint64_t t, float v, float y) {
   if (place.part == RunSamplePlace::Part::kIntervalCheck) return false;
   if (place.part == RunSamplePlace::Part::kAfterRun) {
     ++beyond_design_;
+    return false;
+  }
+  if (!std::isfinite(v) || !std::isfinite(y)) {
+    end_here(fmt::format("sample {} of the run ({} t = {}) is not finite (v = {}, y = {}): a recording cannot hold "
+                         "it, nothing after it is recorded",
+                         t, to_string(place.phase), place.t, v, y));
     return false;
   }
   stream_.append(place.phase, static_cast<double>(v), static_cast<double>(y));

@@ -258,15 +258,9 @@ class Session {
       const std::uint64_t t = std::uint64_t{block.first} + k;
       const bool aside = (block.set_aside & (1U << k)) != 0U;
       // Every one the firmware counted, the interval check's too: the check against its estimates needs them all.
-      if (aside && std::find(result_.set_aside.begin(), result_.set_aside.end(), t) == result_.set_aside.end()) {
-        result_.set_aside.push_back(t);
-      }
-      if (!std::isfinite(block.v[k]) || !std::isfinite(block.y[k])) {
-        streamed_recorder_->end_here(fmt::format("sample {} of the run is not finite (v = {}, y = {}): a recording "
-                                                 "cannot hold it, nothing after it is recorded",
-                                                 t, block.v[k], block.y[k]));
-        continue;
-      }
+      // Blocks come in order; a repeated one is not counted again.
+      if (aside && (result_.set_aside.empty() || result_.set_aside.back() < t)) result_.set_aside.push_back(t);
+      // A non-finite sample ends the recording there (the recorder says so in it).
       if (streamed_recorder_->sample(t, block.v[k], block.y[k]) && aside) {
         streamed_recorder_->note(fmt::format("the firmware set aside the row above (sample {} of the run) as a bad "
                                              "sensor value: its y is as measured, the device did not estimate from "

@@ -67,7 +67,10 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
     for (std::size_t t = 0; t < samples.size(); ++t) {
       since_nan = std::isnan(samples[t].y) ? 0 : since_nan + 1;
       const est::Status s = add(static_cast<Scalar>(samples[t].v), static_cast<Scalar>(samples[t].y));
-      if (s == est::Status::kNonFinite && leave_out_nan_y && since_nan <= static_cast<std::size_t>(config.n)) continue;
+      if (s == est::Status::kNonFinite && leave_out_nan_y && std::isfinite(samples[t].v) &&
+          since_nan <= static_cast<std::size_t>(config.n)) {
+        continue;
+      }
       if (s != est::Status::kOk) {
         throw DataError(data_name, fmt::format("phase {} t = {}: {}", to_string(phase), t,
                                                describe(s, config, scheme, samples[t].v)));

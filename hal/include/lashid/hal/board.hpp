@@ -68,8 +68,9 @@ concept LimitsActuatorRange = requires(const B& board) {
 };
 
 /// link_write queues its bytes and returns without waiting for the wire (an interrupt- or DMA-driven transmitter, or
-/// memory): the firmware may then stream every sample on the link (kStartStreamSamples) without delaying the sample
-/// clock. A board whose link_write waits for each byte does not model it, and never streams.
+/// memory), and the link carries a stream of every sample at the board's sample rate (9 bytes a sample): the firmware
+/// may then stream them (kStartStreamSamples) without delaying the sample clock. A board whose link_write waits for
+/// each byte, or whose link is too slow for its rate, does not model it, and never streams.
 template <class B>
 concept BuffersLinkWrites = B::kBuffersLinkWrites;
 
