@@ -100,27 +100,19 @@ static_assert(hal::Board<Stm32f4AnalogBoard>);
 static_assert(hal::LimitsActuatorRange<Stm32f4AnalogBoard>);
 static_assert(hal::ReportsStackUse<Stm32f4AnalogBoard>);
 static_assert(hal::KnowsCycleRate<Stm32f4AnalogBoard>);
-static_assert(hal::BuffersLinkWrites<Stm32f4AnalogBoard> || LASHID_ANALOG_SAMPLE_HZ > 1200,
+static_assert(hal::BuffersLinkWrites<Stm32f4AnalogBoard> ||
+                  LASHID_ANALOG_SAMPLE_HZ > Stm32f4AnalogBoard::kMaxStreamedSampleHz,
               "at 1 kHz, the default, the analog image streams its samples (tests/hil/physical_plant.sh)");
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
 Stm32f4AnalogBoard g_board;
 fw::IdentificationSequencer<Stm32f4AnalogBoard> g_sequencer(g_board);
 
-constexpr int kExitClockTree = 9;
-
-void say_clock(stm32f4::ClockStart clock) {
-  stm32f4::semihosting::write("lashid: clocks: ");
-  stm32f4::semihosting::write(stm32f4::to_string(clock));
-  stm32f4::semihosting::write("\n");
-}
-
 }  // namespace
 
 int main() {
-  const stm32f4::ClockStart clock = stm32f4::start_clock_tree();
-  say_clock(clock);
-  if (!stm32f4::runs_as_planned(clock)) return kExitClockTree;
+  const stm32f4::ClockStart clock = stm32f4::start_clock_tree_and_say();
+  if (!stm32f4::runs_as_planned(clock)) return stm32f4::kExitClockTree;
   g_board.init(clock == stm32f4::ClockStart::kFixedByEmulator);
   stm32f4::semihosting::write("lashid: analog identification firmware (DAC1 PA4 out, ADC1 in) waiting on USART1\n");
   const fw::RunStatus status = g_sequencer.run();

@@ -3,7 +3,7 @@
 // `lashid hil`), SysTick at 168 MHz is the clock. The same sequencer and board as on mps2
 // (remote_identification_board.hpp); only the platform, the plant USART and the clock differ. The clock tree is
 // started first (168 MHz from the board's crystal; QEMU's fixed 168 MHz there). Exits with 0 when the run is ok,
-// 10 + RunStatus otherwise, and kExitClockTree if the clocks could not be made as planned.
+// 10 + RunStatus otherwise, and stm32f4::kExitClockTree (9) if the clocks could not be made as planned.
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hal/board.hpp"
 #include "lashid/hal/stm32f4.hpp"
@@ -35,22 +35,10 @@ static_assert(hal::KnowsCycleRate<Stm32f4IdentificationBoard>);  // else the rep
 Stm32f4IdentificationBoard g_board{stm32f4::kUsart2};
 fw::IdentificationSequencer<Stm32f4IdentificationBoard> g_sequencer(g_board);
 
-/// The clocks are not the plan's: every baud rate and sample period would be wrong, so nothing runs.
-constexpr int kExitClockTree = 9;
-
 }  // namespace
 
 int main() {
-  const stm32f4::ClockStart clock = stm32f4::start_clock_tree();
-  if (!stm32f4::runs_as_planned(clock)) {
-    stm32f4::semihosting::write("lashid: clock tree not started: ");
-    stm32f4::semihosting::write(stm32f4::to_string(clock));
-    stm32f4::semihosting::write("\n");
-    return kExitClockTree;
-  }
-  stm32f4::semihosting::write("lashid: clocks: ");
-  stm32f4::semihosting::write(stm32f4::to_string(clock));
-  stm32f4::semihosting::write("\n");
+  if (!stm32f4::runs_as_planned(stm32f4::start_clock_tree_and_say())) return stm32f4::kExitClockTree;
   g_board.init();
   stm32f4::semihosting::write("lashid: identification firmware waiting for a design and start on USART1\n");
   const fw::RunStatus status = g_sequencer.run();

@@ -25,7 +25,6 @@ IsrByteQueue<kLinkTxQueueBytes> g_link_tx;
 
 constexpr std::uintptr_t kCr1 = kUsart1.base + detail::kUsartCr1;
 constexpr std::uintptr_t kSr = kUsart1.base + detail::kUsartSr;
-constexpr std::uint32_t kSrTc = 1U << 6;  // transmission complete (RM0090 30.6.1)
 
 // The next queued byte into DR while TXE is set; TXEIE off once the queue is empty. The caller masks interrupts
 // (or is the interrupt).

@@ -24,6 +24,7 @@ inline constexpr std::uint32_t kSrFe = 1U << 1;    // framing error
 inline constexpr std::uint32_t kSrNf = 1U << 2;    // noise detected
 inline constexpr std::uint32_t kSrOre = 1U << 3;   // overrun: a byte arrived while RXNE was set, it was lost
 inline constexpr std::uint32_t kSrRxne = 1U << 5;  // read data register not empty
+inline constexpr std::uint32_t kSrTc = 1U << 6;    // transmission complete: the last byte has left the line
 inline constexpr std::uint32_t kSrTxe = 1U << 7;   // transmit data register empty
 // CR1 bits (30.6.4); M = 0 (8 data bits), OVER8 = 0 (16x oversampling), PCE = 0 (no parity)
 inline constexpr std::uint32_t kCr1Re = 1U << 2;

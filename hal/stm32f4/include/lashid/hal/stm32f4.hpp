@@ -87,6 +87,10 @@ Status drain_queued_link();
 /// The board's clock tree (kClockPlan) on the chip's registers: call it first in main, before any peripheral, and
 /// stop unless runs_as_planned(): every baud rate and sample period assumes kClockPlan's clocks.
 ClockStart start_clock_tree();
+/// What an identification image does first: start_clock_tree(), its outcome said on the console ("lashid: clocks:
+/// <how>" or "lashid: clock tree not started: <why>"). The image then ends with kExitClockTree unless
+/// runs_as_planned(): with other clocks every baud rate and sample period would be wrong, so nothing runs.
+inline constexpr int kExitClockTree = 9;
 
 // The core's half, under this board's namespace (as hal/mps2 does).
 namespace semihosting = cortex_m::semihosting;
@@ -103,6 +107,14 @@ using cortex_m::stack_high_water_bytes;
 using cortex_m::stack_size_bytes;
 using cortex_m::SysTickClock;
 using cortex_m::Text;
+
+inline ClockStart start_clock_tree_and_say() {
+  const ClockStart clock = start_clock_tree();
+  semihosting::write(runs_as_planned(clock) ? "lashid: clocks: " : "lashid: clock tree not started: ");
+  semihosting::write(to_string(clock));
+  semihosting::write("\n");
+  return clock;
+}
 
 // ---- USART ------------------------------------------------------------------------------------------------------------
 

@@ -18,25 +18,29 @@
 // no heap; on any RegisterBus, so that the sequences are tested on the PC (tests/test_stm32f4_analog.cpp).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "lashid/hal/status.hpp"
+#include "lashid/hal/stm32f4/clock_tree.hpp"
 #include "lashid/hal/stm32f4/register_bus.hpp"
+#include "lashid/hal/stm32f4/usart_pins.hpp"
 
 namespace lashid::hal::stm32f4 {
 
 namespace analog_registers {
-// RCC clock enables (7.3.10, 7.3.13, 7.3.14)
-inline constexpr std::uintptr_t kRccAhb1enr = 0x4002'3830;  // GPIOAEN [0], GPIOBEN [1], GPIOCEN [2]
-inline constexpr std::uintptr_t kRccApb1enr = 0x4002'3840;  // DACEN [29]
-inline constexpr std::uintptr_t kRccApb2enr = 0x4002'3844;  // ADC1EN [8]
+// RCC clock enables (7.3.10, 7.3.13, 7.3.14): AHB1ENR (GPIOAEN [0], GPIOBEN [1], GPIOCEN [2]) and APB1ENR as the pins
+// and the clock tree name them, APB2ENR here
+using pin_registers::kRccAhb1enr;
+using clock_registers::kRccApb1enr;
+inline constexpr std::uintptr_t kRccApb2enr = 0x4002'3844;
 inline constexpr std::uint32_t kApb1enrDacEn = 1U << 29;
 inline constexpr std::uint32_t kApb2enrAdc1En = 1U << 8;
-// GPIO ports A, B, C (RM0090 2.3, Table 1) and MODER (8.4.1): 11 = analog
-inline constexpr std::uintptr_t kGpioA = 0x4002'0000;
-inline constexpr std::uintptr_t kGpioB = 0x4002'0400;
-inline constexpr std::uintptr_t kGpioC = 0x4002'0800;
-inline constexpr std::uintptr_t kModer = 0x00;
+// GPIO ports A, B, C (RM0090 2.3, Table 1: every 0x400 from GPIOA) and MODER (8.4.1): 11 = analog
+using pin_registers::kGpioA;
+using pin_registers::kModer;
+inline constexpr std::uintptr_t kGpioB = kGpioA + 0x400;
+inline constexpr std::uintptr_t kGpioC = kGpioA + 0x800;
 inline constexpr std::uint32_t kModeAnalog = 3U;
 // DAC (14.5; base 0x40007400): CR EN1 [0], BOFF1 [1] (0 = output buffer on), TEN1 [2] (0 = DHR to DOR one APB1
 // cycle after the write; the pin then settles within t_SETTLING, 3 us typical, 6 us max: DS8626); DHR12R1 [11:0];
@@ -113,20 +117,15 @@ struct AnalogPlan {
   AnalogScale sensor;             ///< y = offset + gain * ADC input volts
   float actuator_rest = 1.65F;    ///< v while no run drives it (design units); with_rest_at_middle() for the middle
 
+  /// What the buffered output reaches on the pin.
+  static constexpr float kLowestVolts = analog_registers::kDacBufferMarginVolts;
+  constexpr float highest_volts() const { return vref_volts - analog_registers::kDacBufferMarginVolts; }
   /// v at `volts` on the pin.
   constexpr float actuator_at(float volts) const { return actuator.offset + actuator.gain * volts; }
   /// v's range: what the buffered output reaches, 0.2 V to Vref - 0.2 V, in the design's units (either way round: an
   /// inverting stage has a negative gain).
-  constexpr float actuator_low() const {
-    const float a = actuator_at(analog_registers::kDacBufferMarginVolts);
-    const float b = actuator_at(vref_volts - analog_registers::kDacBufferMarginVolts);
-    return a < b ? a : b;
-  }
-  constexpr float actuator_high() const {
-    const float a = actuator_at(analog_registers::kDacBufferMarginVolts);
-    const float b = actuator_at(vref_volts - analog_registers::kDacBufferMarginVolts);
-    return a < b ? b : a;
-  }
+  constexpr float actuator_low() const { return std::min(actuator_at(kLowestVolts), actuator_at(highest_volts())); }
+  constexpr float actuator_high() const { return std::max(actuator_at(kLowestVolts), actuator_at(highest_volts())); }
   /// The same plan resting at the middle of the actuator's range.
   constexpr AnalogPlan with_rest_at_middle() const {
     AnalogPlan p = *this;
@@ -149,10 +148,9 @@ struct AnalogPlan {
   /// The DAC code for v, rounded to the nearest (DAC_OUT1 = Vref x code / 4095, RM0090 14.3.5); false if v is not
   /// finite or its volts fall outside 0.2 V .. Vref - 0.2 V by more than half a code.
   bool dac_code(float v, std::uint32_t& code) const {
-    using analog_registers::kDacBufferMarginVolts;
     const float volts = (v - actuator.offset) / actuator.gain;
     const float half_code = 0.5F * vref_volts / 4095.0F;
-    if (!(volts >= kDacBufferMarginVolts - half_code && volts <= vref_volts - kDacBufferMarginVolts + half_code)) {
+    if (!(volts >= kLowestVolts - half_code && volts <= highest_volts() + half_code)) {
       return false;  // NaN too
     }
     // Round half up (no libm call in the image); volts > 0 here.
