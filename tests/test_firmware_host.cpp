@@ -145,16 +145,18 @@ TEST(FirmwareOnHostBoard, CrossCheckFlagsAPlantThatIsNotSwitchOrBacklash) {
 // must count them instead of dropping the status.
 class NanSensorBoard : public sim::ScenarioBoard {
  public:
-  NanSensorBoard(sim::ScenarioBoard board, std::vector<std::size_t> nan_at)
-      : sim::ScenarioBoard(std::move(board)), nan_at_(std::move(nan_at)) {}
+  /// `bad` is the reading given at those samples: NaN by default, or a finite value too large for the estimator.
+  NanSensorBoard(sim::ScenarioBoard board, std::vector<std::size_t> nan_at, float bad = std::nanf(""))
+      : sim::ScenarioBoard(std::move(board)), nan_at_(std::move(nan_at)), bad_(bad) {}
   hal::Status measure(float& y) {
     const hal::Status s = sim::ScenarioBoard::measure(y);
-    if (std::find(nan_at_.begin(), nan_at_.end(), exchanges().size() - 1) != nan_at_.end()) y = std::nanf("");
+    if (std::find(nan_at_.begin(), nan_at_.end(), exchanges().size() - 1) != nan_at_.end()) y = bad_;
     return s;
   }
 
  private:
   std::vector<std::size_t> nan_at_;
+  float bad_;
 };
 
 // A board whose actuator reaches only [low, high] (a DAC's range): the firmware must refuse a design beyond it
@@ -340,12 +342,15 @@ TEST(FirmwareOnHostBoard, StreamsEverySampleAsMeasuredWhenAskedTo) {
 }
 
 // The device leaves out a bad reading and every row that holds it as a lag; `identify --float` with
-// leave_out_nan_y (hil's check of a streamed recording) must leave out the same rows and give the same estimates,
-// whether the NaN falls in a row's y or only in its lags. Without the option a NaN is an error naming it.
-TEST(FirmwareOnHostBoard, TheHostLeavesOutTheSetAsideSamplesAsTheDeviceDoes) {
+// leave_out_unusable_y (hil's check of a streamed recording) must leave out the same rows and give the same
+// estimates, whether the bad value falls in a row's y or only in its lags. Without the option it is an error naming
+// it. Bad is NaN (a reading the firmware set aside) or finite but beyond the estimator's kMaxSampleMagnitude, which
+// the firmware's sensor test lets through when the design gives no sensor range: the estimator leaves it out all
+// the same, and the host's check must too (it threw before).
+void expect_host_leaves_out_what_the_device_did(float bad) {
   const sim::Scenario& s = sim::find_scenario("ais_paper");  // DIS pulses are run samples 2001..10000
   const std::vector<std::size_t> nan_at{2001 + 1000, 2001 + 1002, 2001 + 5000, 12002 + 3000};
-  NanSensorBoard board(sim::make_scenario_board(s, 7), nan_at);
+  NanSensorBoard board(sim::make_scenario_board(s, 7), nan_at, bad);
   fw::IdentificationSequencer<NanSensorBoard> firmware(board, fw::kAisPaperRun);
   ASSERT_EQ(firmware.run(), fw::RunStatus::kOk);
   sim::SimulationOptions options;
@@ -357,18 +362,27 @@ TEST(FirmwareOnHostBoard, TheHostLeavesOutTheSetAsideSamplesAsTheDeviceDoes) {
   for (const sim::Phase p : clean.order()) {
     for (const sim::Sample& x : clean.phase(p)) {
       const bool aside = std::find(nan_at.begin(), nan_at.end(), k++) != nan_at.end();
-      rec.append(p, x.v, aside ? std::nan("") : x.y);
+      rec.append(p, x.v, aside ? static_cast<double>(bad) : x.y);
     }
   }
   sim::IdentifyOptions f32;
   f32.precision = sim::Precision::kFloat;
   EXPECT_THROW((void)sim::identify_scheme(s.config, rec, est::Scheme::kDescending, f32, "rec"), sim::DataError);
-  f32.leave_out_nan_y = true;
+  f32.leave_out_unusable_y = true;
   const Reports r = reports_of(board);
   expect_cli_estimates(r, s.config, rec, f32);
-  // Rows left out: per NaN its own row and the n = 2 rows that lag it; those of 1000 and 1002 overlap in row 1002
-  // (rows 1000-1004): 5 + 3 + 3.
+  // Rows left out: per bad value its own row and the n = 2 rows that lag it; those of 1000 and 1002 overlap in row
+  // 1002 (rows 1000-1004): 5 + 3 + 3.
   EXPECT_EQ(r.cost.rejected_samples, 11u);
+}
+
+TEST(FirmwareOnHostBoard, TheHostLeavesOutTheSetAsideSamplesAsTheDeviceDoes) {
+  expect_host_leaves_out_what_the_device_did(std::nanf(""));
+}
+
+TEST(FirmwareOnHostBoard, TheHostLeavesOutAFiniteReadingTooLargeForTheEstimatorAsTheDeviceDoes) {
+  static_assert(1e20F > est::kMaxSampleMagnitude<float>);
+  expect_host_leaves_out_what_the_device_did(1e20F);
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ std::vector<fw::EstimateRecord> identify_recording(const ExperimentConfig& confi
   const Recording rec = without_set_aside(read_recording_for(config, path), design, set_aside);
   IdentifyOptions f32;
   f32.precision = Precision::kFloat;
-  f32.leave_out_nan_y = true;  // the set-aside samples, as on the device
+  f32.leave_out_unusable_y = true;  // the set-aside samples, as on the device
   std::vector<fw::EstimateRecord> out;
   for (const fw::EstimateRecord& e : device) {
     const SchemeResult s = identify_scheme(config, rec, e.scheme, f32, path);

@@ -13,9 +13,9 @@ SchemeResult identify_scheme(const ExperimentConfig& config, const Recording& re
                              const IdentifyOptions& options, std::string_view data_name) {
   // The recursive estimator in both precisions: grouped least squares (estimator/grouped_rls.hpp).
   if (options.precision == Precision::kFloat) {
-    return detail::run<float>(config, recording, scheme, data_name, options.leave_out_nan_y);
+    return detail::run<float>(config, recording, scheme, data_name, options.leave_out_unusable_y);
   }
-  return detail::run<double>(config, recording, scheme, data_name, options.leave_out_nan_y);
+  return detail::run<double>(config, recording, scheme, data_name, options.leave_out_unusable_y);
 }
 
 est::CrossCheck<double> cross_check(const ExperimentConfig& config, const SchemeResult& dis, const SchemeResult& ais) {

@@ -38,7 +38,7 @@ inline std::string describe(est::Status s, const ExperimentConfig& config, est::
 
 template <class Scalar>
 SchemeResult run(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
-                 std::string_view data_name, bool leave_out_nan_y) {
+                 std::string_view data_name, bool leave_out_unusable_y) {
   const bool dis = scheme == est::Scheme::kDescending;
   const Phase step_phase = dis ? Phase::kStepD : Phase::kStepA;
   const Phase pulse_phase = dis ? Phase::kDis : Phase::kAis;
@@ -61,14 +61,15 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   }
   const auto feed = [&](Phase phase, auto add) {
     const auto samples = recording.phase(phase);
-    // Samples since the last NaN y of the phase (IdentifyOptions::leave_out_nan_y): a row whose y or any of its n
-    // lags is NaN is left out by the estimator, as on the device, and is no error then.
-    std::size_t since_nan = static_cast<std::size_t>(config.n) + 1;
+    // Samples since the last unusable y of the phase (IdentifyOptions::leave_out_unusable_y): a row whose y or any
+    // of its n lags is NaN, or finite but beyond what the estimator takes (est::usable, in the precision run), is
+    // left out by the estimator, as on the device, and is no error then.
+    std::size_t since_unusable = static_cast<std::size_t>(config.n) + 1;
     for (std::size_t t = 0; t < samples.size(); ++t) {
-      since_nan = std::isnan(samples[t].y) ? 0 : since_nan + 1;
+      since_unusable = est::usable(static_cast<Scalar>(samples[t].y)) ? since_unusable + 1 : 0;
       const est::Status s = add(static_cast<Scalar>(samples[t].v), static_cast<Scalar>(samples[t].y));
-      if (s == est::Status::kNonFinite && leave_out_nan_y && std::isfinite(samples[t].v) &&
-          since_nan <= static_cast<std::size_t>(config.n)) {
+      if (s == est::Status::kNonFinite && leave_out_unusable_y && std::isfinite(samples[t].v) &&
+          since_unusable <= static_cast<std::size_t>(config.n)) {
         continue;
       }
       if (s != est::Status::kOk) {

@@ -23,10 +23,12 @@ enum class Precision { kDouble, kFloat };
 // the dispatch would cost minutes of compile time for no user-facing benefit.
 struct IdentifyOptions {
   Precision precision = Precision::kDouble;
-  /// A sample whose y is NaN is left out, as the firmware leaves out a bad sensor value, instead of being an error
-  /// naming it: for `lashid hil`'s check of a streamed recording against the device's estimates (the samples the
-  /// firmware set aside are NaN there). Files read by `lashid identify` never hold NaN.
-  bool leave_out_nan_y = false;
+  /// A sample whose y the estimator cannot take (NaN, infinite, or beyond est::kMaxSampleMagnitude in the precision
+  /// run) is left out with the rows that lag it, as the firmware leaves out a bad sensor value, instead of being an
+  /// error naming it: for `lashid hil`'s check of a recording against the device's estimates (the samples the
+  /// firmware set aside are NaN there; a finite reading too large for the estimator passes the firmware's sensor
+  /// test when the design gives no sensor range). Files read by `lashid identify` never hold NaN.
+  bool leave_out_unusable_y = false;
 };
 
 /// One scheme's estimate, in the paper's order and the scaling of (3.11c).
