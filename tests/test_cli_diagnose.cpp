@@ -18,6 +18,17 @@ using namespace lashid::test;
 
 class CliDiagnose : public LashidExeTest {};
 
+// Every step of "gain_per_cause" carries its cause's parameters as the final model has them ("parameters"): the
+// steps decompose the final model's gain (the last one ends at fit_extended).
+void expect_steps_carry_the_final_parameters(const json& j) {
+  for (const json& step : j.at("gain_per_cause")) {
+    for (const auto& [key, value] : step.at("parameters").items()) {
+      ASSERT_TRUE(j.at("parameters").contains(key)) << key;
+      EXPECT_EQ(value, j.at("parameters").at(key)) << step.at("cause") << " " << key;
+    }
+  }
+}
+
 // Two effects hidden at once on curved borders: the JSON names both (strongest first in "causes", "cause" the
 // first), gives both parameters, and one gain per cause added; a recording without effect gives ["none"].
 TEST_F(CliDiagnose, NamesTwoHiddenCausesAndTheGainOfEach) {
@@ -49,6 +60,18 @@ TEST_F(CliDiagnose, NamesTwoHiddenCausesAndTheGainOfEach) {
     fit = step.at("fit_after").get<double>();
   }
   EXPECT_DOUBLE_EQ(fit, j.at("fit_extended").get<double>());
+  expect_steps_carry_the_final_parameters(j);
+
+  // An input lag added before a drift is searched again on top of it: before the fix the step said lambda 0.11
+  // while the final model, whose fit the last step ends at, had 0.2 (input_lag+sensor_drift, curved, seed 5002).
+  ASSERT_EQ(run({"hidden-effect", "--cause", "input_lag+sensor_drift", "--borders", "curved", "--seed", "5002",
+                 "--out", csv, "--config-out", cfg})
+                .exit_code,
+            0);
+  ASSERT_EQ(run({"diagnose", "--config", cfg, "--data", csv, "--json", out}).exit_code, 0);
+  const json lag = json::parse(slurp(out));
+  ASSERT_TRUE(lag.at("parameters").contains("lambda")) << lag.at("parameters");
+  expect_steps_carry_the_final_parameters(lag);
 
   const Outcome none = run({"hidden-effect", "--cause", "none", "--borders", "curved", "--seed", "11", "--out", csv,
                             "--config-out", cfg});

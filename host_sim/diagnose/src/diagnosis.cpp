@@ -62,6 +62,35 @@ CauseParameters combined_parameters(const Diagnosis& d) {
   return p;
 }
 
+// `all`'s members of one cause: a step's parameters are the final model's for its cause. The selection refits after
+// a step was taken (lambda searched again with the causes added after it, a drift refitted beside a lag or a
+// dropped cause, colored_noise's estimator chosen last), and the steps decompose the final model's gain: their last
+// fit_after is the extended fit, so their parameters must be that model's, not the ones a cause had when added.
+CauseParameters parameters_of(const CauseParameters& all, Cause cause) {
+  CauseParameters p;
+  switch (cause) {
+    case Cause::kInputLag:
+      p.lambda = all.lambda;
+      break;
+    case Cause::kDeadTime:
+      p.delay = all.delay;
+      break;
+    case Cause::kSensorDrift:
+      p.drift_total = all.drift_total;
+      break;
+    case Cause::kColoredNoise:
+      p.instrumental_variables = all.instrumental_variables;
+      p.output_error = all.output_error;
+      break;
+    case Cause::kOperatorType:
+      p.op = all.op;
+      break;
+    case Cause::kNone:
+      break;
+  }
+  return p;
+}
+
 }  // namespace
 
 Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, std::string_view data_name,
@@ -105,6 +134,7 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
   if (d.causes.empty()) d.causes.push_back(Cause::kNone);
   d.cause = d.causes.front();
   d.parameters = combined_parameters(d);
+  for (AddedCause& a : d.added) a.parameters = parameters_of(d.parameters, a.cause);
   d.val_v.assign(data.v.begin() + static_cast<std::ptrdiff_t>(d.val_begin),
                  data.v.begin() + static_cast<std::ptrdiff_t>(d.val_end));
   d.val_measured.assign(measured.begin(), measured.end());

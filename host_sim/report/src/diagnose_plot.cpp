@@ -1,5 +1,6 @@
 // --plot of `lashid diagnose`: val simulations and the residual correlations with their 99 % bands.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "lashid/diagnose/diagnosis.hpp"
 #include "lashid/report/diagnose_plot.hpp"
@@ -31,7 +32,11 @@ plot::Panel correlation_panel(std::string title, const std::vector<double>& r, d
 void plot_diagnosis(const sim::Diagnosis& d, const std::string& png_path) {
   const std::vector<double> t = iota(d.val_measured.size(), 0.0);
   plot::Figure figure;
-  figure.title = fmt::format("lashid diagnose: cause {} {}", sim::to_string(d.cause), to_string(d.parameters));
+  std::vector<std::string_view> names;
+  for (const sim::Cause c : d.causes) names.push_back(sim::to_string(c));
+  const std::string causes = fmt::format("{}", fmt::join(names, "+"));
+  figure.title = fmt::format("lashid diagnose: cause{} {} {}", d.causes.size() > 1 ? "s" : "", causes,
+                             to_string(d.parameters));
   figure.panels.push_back(
       {fmt::format("val: fit {} (nominal), {} (extended)", sim::describe_fit(d.fit_nominal),
                    sim::describe_fit(d.fit_extended)),

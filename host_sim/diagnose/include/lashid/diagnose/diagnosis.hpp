@@ -63,7 +63,7 @@ struct CandidateCause {
 /// One cause added to the extended model, in the order of the forward selection (the strongest first).
 struct AddedCause {
   Cause cause = Cause::kNone;
-  CauseParameters parameters;   ///< of this cause alone
+  CauseParameters parameters;   ///< this cause's, in the final model (later steps may have refitted it)
   double likelihood_ratio = 0;  ///< N ln(RSS_before / RSS_after) on the identification phases (0 for colored_noise)
   double fit_before = 0, fit_after = 0;  ///< val simulation fit without and with this cause
   double ljung_box_before = 0, ljung_box_after = 0;  ///< of the identification residuals without and with it
