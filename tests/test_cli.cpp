@@ -116,6 +116,20 @@ TEST_F(Cli, NegativeSeedIsRejectedInsteadOfWrappingAround) {
   EXPECT_TRUE(files_below(work_).empty());
 }
 
+// CLI11 clamps an unsigned number beyond 2^64 - 1 to 2^64 - 1 without a word: the recording was that seed's. 2^64 - 1
+// itself is a seed; 2^64 is not, and a sweep must not wrap past 2^64 - 1 to seed 0.
+TEST_F(Cli, ASeedBeyondTwoToTheSixtyFourIsRefusedInsteadOfClamped) {
+  const Outcome big = run({"simulate", "--scenario", "dis_paper", "--seed", "18446744073709551616", "--out", "rec.csv"});
+  EXPECT_EQ(big.exit_code, 105) << big;  // CLI11's ValidationError, README's 100+ range
+  EXPECT_TRUE(Contains(big.err, "--seed: must be at most 18446744073709551615")) << big;
+  EXPECT_TRUE(files_below(work_).empty());
+  const Outcome sweep = run({"diagnose-sweep", "--first-seed", "18446744073709551615", "--seeds", "2"});
+  EXPECT_EQ(sweep.exit_code, 105) << sweep;
+  EXPECT_TRUE(Contains(sweep.err, "--first-seed: 18446744073709551615 + --seeds 2 passes 2^64 - 1")) << sweep;
+  const Outcome max = run({"simulate", "--scenario", "dis_paper", "--seed", "18446744073709551615", "--out", "rec.csv"});
+  EXPECT_EQ(max.exit_code, 0) << max;
+}
+
 // --- scenarios and simulate -------------------------------------------------------------------------------
 
 TEST_F(Cli, ScenariosListsThePaperExamples) {

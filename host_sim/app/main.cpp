@@ -1,9 +1,11 @@
 // lashid: identification of actuators with backlash or switch behaviour followed by linear dynamics (DIS/AIS).
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <new>
 #include <string>
 #include <utility>
@@ -16,6 +18,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #include "lashid/hil/hil.hpp"
 #include "output_paths.hpp"
@@ -23,23 +26,6 @@
 using namespace lashid::app;
 
 namespace {
-
-// CLI11 converts "-1" to an unsigned seed by wrapping it around to 2^64 - 1; reject it instead.
-const CLI::Validator kNonNegativeSeed(
-    [](const std::string& value) { return value.starts_with('-') ? std::string("must not be negative") : std::string(); },
-    "NONNEGATIVE");
-
-// CLI11's number checks (Range, NonNegativeNumber, ...) compare, and every comparison with NaN is false: "nan"
-// passed them and reached the code as a value. Every floating-point option therefore also gets this check.
-const CLI::Validator kFinite(
-    [](const std::string& value) {
-      char* end = nullptr;
-      const double x = std::strtod(value.c_str(), &end);
-      // Not a number at all: CLI11's own conversion names the error.
-      if (end == value.c_str()) return std::string();
-      return std::isfinite(x) ? std::string() : std::string("must be a finite number");
-    },
-    "FINITE");
 
 struct Arguments {
   SimulateArgs simulate;
@@ -261,6 +247,12 @@ CLI::App* add_diagnose_sweep(CLI::App& app, DiagnoseSweepArgs& args) {
   cmd->add_flag("--oracle", args.oracle,
                 "Also put the generator's plant on each true-structure fit's border tables and compare one-step "
                 "errors and val fits (cases with input lag or dead time only; costs one more fit per case)");
+  cmd->callback([&args] {
+    if (args.first_seed > std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(args.seeds - 1)) {
+      throw CLI::ValidationError("--first-seed", fmt::format("{} + --seeds {} passes 2^64 - 1", args.first_seed,
+                                                              args.seeds));
+    }
+  });
   return cmd;
 }
 
