@@ -380,6 +380,35 @@ TEST(FirmwareOnHostBoard, TheHostLeavesOutTheSetAsideSamplesAsTheDeviceDoes) {
   expect_host_leaves_out_what_the_device_did(std::nanf(""));
 }
 
+// Every reading of the AIS step experiment bad: the AIS has no step mean, its estimate fails, and its record must
+// say so with no values. Before, it carried the DIS's a, b and F (what the estimate object still held) under a
+// failed status: in `lashid hil` a second estimate agreeing perfectly with the first.
+TEST(FirmwareOnHostBoard, AFailedSchemeReportsItsStatusAndNoValues) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");  // the AIS step experiment is run samples 10001..12001
+  std::vector<std::size_t> bad;
+  for (std::size_t t = 10001; t <= 12001; ++t) bad.push_back(t);
+  NanSensorBoard board(sim::make_scenario_board(s, 7), bad);
+  fw::IdentificationSequencer<NanSensorBoard> firmware(board, fw::kAisPaperRun);
+  (void)firmware.run();
+  const Reports r = reports_of(board);
+  ASSERT_EQ(r.estimates.size(), 2U);
+  const fw::EstimateRecord& dis = r.estimates[0];
+  const fw::EstimateRecord& ais = r.estimates[1];
+  ASSERT_EQ(dis.scheme, est::Scheme::kDescending);
+  EXPECT_EQ(static_cast<est::Status>(dis.status), est::Status::kOk);
+  EXPECT_TRUE(std::isfinite(dis.a[0]) && std::isfinite(dis.F[0]));
+  ASSERT_EQ(ais.scheme, est::Scheme::kAscending);
+  EXPECT_EQ(static_cast<est::Status>(ais.status), est::Status::kStepMeanMissing);
+  for (std::size_t i = 0; i < ais.n; ++i) {
+    EXPECT_TRUE(std::isnan(ais.a[i]) && std::isnan(ais.b[i]) && std::isnan(ais.se_a[i]) && std::isnan(ais.se_b[i]))
+        << i;
+  }
+  for (std::size_t j = 0; j < ais.m; ++j) EXPECT_TRUE(std::isnan(ais.F[j])) << j;
+  EXPECT_TRUE(std::isnan(ais.ybar0));
+  EXPECT_TRUE(std::isnan(ais.noise_variance));
+  EXPECT_EQ(r.cross.max_z, -1.0F);  // no cross-check without both schemes
+}
+
 TEST(FirmwareOnHostBoard, TheHostLeavesOutAFiniteReadingTooLargeForTheEstimatorAsTheDeviceDoes) {
   static_assert(1e20F > est::kMaxSampleMagnitude<float>);
   expect_host_leaves_out_what_the_device_did(1e20F);

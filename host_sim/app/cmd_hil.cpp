@@ -41,8 +41,14 @@ void print_estimate(const fw::EstimateRecord& e, const ExperimentConfig& config)
   const auto cell = [](const std::vector<double>* v, std::size_t k) {
     return v != nullptr && k < v->size() ? fmt::format("{:>11.5g}", (*v)[k]) : std::string();
   };
+  const auto status = static_cast<lashid::est::Status>(e.status);
+  if (status != lashid::est::Status::kOk) {
+    // The firmware sends no values for a failed scheme (NaN): the status is the whole answer.
+    fmt::print("  {} estimate (status {}): no values\n", dis ? "DIS" : "AIS", lashid::est::to_string(status));
+    return;
+  }
   fmt::print("  {} estimate (status {}): ybar0 {:.4g}, residual variance {:.4g}\n", dis ? "DIS" : "AIS",
-             lashid::est::to_string(static_cast<lashid::est::Status>(e.status)), e.ybar0, e.noise_variance);
+             lashid::est::to_string(status), e.ybar0, e.noise_variance);
   fmt::print("    {:<10}{:>11}{:>11}{:>11}\n", "", "firmware", "std.err", truth ? "truth" : "");
   for (std::size_t i = 0; i < e.n; ++i) {
     fmt::print("    {:<10}{:>11.5g}{:>11.2g}{}\n", fmt::format("a{}", i + 1), e.a[i], e.se_a[i],

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "lashid/estimator/cross_check.hpp"
@@ -50,6 +51,19 @@ EstimateRecord to_record(const est::SchemeEstimate<float, N, M>& e, est::Scheme 
   r.m = design.m;
   r.ybar0 = e.ybar0;
   r.noise_variance = e.ls.noise_variance;
+  if (e.status != est::Status::kOk) {
+    // A failed estimate writes no a, b, F (estimate_into returns early): what `e` still holds is an earlier
+    // period's, or the other scheme's, and must not be reported as this one's. NaN says "no value" on the host.
+    constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+    r.noise_variance = kNone;
+    if (e.status == est::Status::kStepMeanMissing || e.status == est::Status::kNotConfigured) r.ybar0 = kNone;
+    for (int i = 0; i < design.n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      r.a[k] = r.se_a[k] = r.b[k] = r.se_b[k] = kNone;
+    }
+    for (int j = 0; j < design.m; ++j) r.F[static_cast<std::size_t>(j)] = kNone;
+    return r;
+  }
   for (int i = 0; i < design.n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     r.a[k] = e.a(i);
