@@ -128,6 +128,7 @@ TEST(FirmwareOnHostBoard, RefusesAnIntervalTooNarrowForTheBacklash) {
   EXPECT_EQ(board.exchanges().size(), 4u * 72);  // it stopped after the check
 }
 
+
 TEST(FirmwareOnHostBoard, CrossCheckFlagsAPlantThatIsNotSwitchOrBacklash) {
   // Remark 3b: with first-order dynamics before the switch (lambda = 0.6), the operator seen by the experiments
   // is no longer a switch, and the two schemes estimate different linear parts.
@@ -158,6 +159,24 @@ class NanSensorBoard : public sim::ScenarioBoard {
   std::vector<std::size_t> nan_at_;
   float bad_;
 };
+
+// A sensor that gives nothing usable during the interval check (open: NaN; or one finite reading too large for the
+// float32 sums, 1e20, among good ones at each end) is the sensor's fault, not the interval's: every NaN left the
+// means at 0 / 0 and the run said "interval too narrow"; one 1e20 reading overflowed the spread to inf and said it
+// too. The interval check's 288 samples are run samples 0..287 (4 periods of 2 x 36).
+TEST(FirmwareOnHostBoard, TheIntervalCheckTellsABadSensorFromANarrowInterval) {
+  const sim::Scenario& s = sim::find_scenario("dis_paper");
+  std::vector<std::size_t> all(288);
+  for (std::size_t t = 0; t < all.size(); ++t) all[t] = t;
+  NanSensorBoard open(sim::make_scenario_board(s, 3), all);
+  fw::IdentificationSequencer<NanSensorBoard> silent(open, fw::kDisPaperRun);
+  EXPECT_EQ(silent.run(), fw::RunStatus::kSensorFault);
+  EXPECT_EQ(open.exchanges().size(), 288u);  // it stopped after the check
+  // Samples 100 (a v_max half, its held part) and 128 (a v_min half): one 1e20 each; the check passes on the others.
+  NanSensorBoard spikes(sim::make_scenario_board(s, 3), {100, 128}, 1e20F);
+  fw::IdentificationSequencer<NanSensorBoard> firmware(spikes, fw::kDisPaperRun);
+  EXPECT_EQ(firmware.run(), fw::RunStatus::kOk);
+}
 
 // A board whose actuator reaches only [low, high] (a DAC's range): the firmware must refuse a design beyond it
 // before actuating anything, and run one within it.

@@ -16,9 +16,10 @@ namespace lashid::est {
 template <class Scalar>
 class StepMean {
  public:
-  /// Adds y(t) of the step experiment; t counts from 0 within the experiment.
+  /// Adds y(t) of the step experiment; t counts from 0 within the experiment. A y the sums cannot take (NaN,
+  /// infinite, or beyond kMaxSampleMagnitude: one 2e19 overflows the float32 m2) is refused as kNonFinite.
   Status add(std::int64_t t, Scalar y) {
-    if (!std::isfinite(y)) return Status::kNonFinite;
+    if (!usable(y)) return Status::kNonFinite;
     if (t == 0) return Status::kOk;
     ++count_;
     const Scalar delta = y - mean_;

@@ -50,7 +50,8 @@ enum class RunStatus : std::uint8_t {
   kOk = 0,
   kIntervalTooNarrow,  ///< Section 3.4 step 1: the output does not follow v_m <-> v_M (Fig. 5); enlarge it
   kActuatorFault,      ///< the board rejected a command
-  kSensorFault,        ///< a measurement could not be obtained after retries
+  kSensorFault,        ///< a measurement could not be obtained after retries, or the interval check had fewer
+                       ///< than two usable readings at v_m or at v_M (every one NaN, clipped or out of range)
   kEstimatorFailed,    ///< a scheme's estimate has a non-ok status (see its kEstimate record)
   kStopped,            ///< stopped by command
   kDesignRejected,     ///< the design sent with kDesign broke a rule (its DesignStatus was answered); nothing ran

@@ -184,6 +184,11 @@ class IdentificationSequencer {
       (void)half.add(static_cast<std::int64_t>(half.count()) + 1, y);
     }
     if (++t_ < design_.interval_check_samples()) return true;
+    // Without two usable readings at each end nothing can be judged: the sensor's fault, not the interval's.
+    if (high_.count() < 2 || low_.count() < 2) {
+      finish(RunStatus::kSensorFault);
+      return true;
+    }
     // Fig. 5 / Remark 1b: if the interval is too narrow the output stops following v after a cycle, so the mean
     // output at v_M and at v_m coincide (up to noise). Require a difference beyond 6 standard errors.
     const float spread = std::sqrt(high_.variance() / static_cast<float>(high_.count()) +
