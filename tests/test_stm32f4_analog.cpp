@@ -28,6 +28,7 @@ class AnalogChipModel {
   int eoc_after_reads = 3;
   bool converts = true;   // false: EOC never comes (a dead ADC clock)
   bool qemu = false;      // QEMU's ADC: no EOC; DR, while SWSTART is set, answers 7 above its last value
+  bool dac_wired_to_adc = false;  // PA4 wired to the ADC's pin: the DAC's output is the input, at once
   std::uint32_t reads = 0, conversions = 0;
   std::vector<const char*> breaches;
   std::map<std::uintptr_t, std::uint32_t> reg{
@@ -104,6 +105,7 @@ class AnalogChipModel {
     if (address == ar::kDacDhr12r1) {
       r = value & 0xFFFU;
       if ((reg.at(ar::kDacCr) & ar::kDacCrEn1) != 0) reg.at(ar::kDacDor1) = r;
+      if (dac_wired_to_adc) input_volts = vref * reg.at(ar::kDacDor1) / 4095.0;
       return;
     }
     r = value;
@@ -286,6 +288,34 @@ TEST(Stm32f4Adc, UnderQemuTheSawtoothOfItsAdcIsReadWithoutWaitingForEoc) {
     EXPECT_EQ(read_adc(chip, plan, y, true), Status::kOk);
     EXPECT_NEAR(y, 3.3 * code / 4095.0, 1e-6) << code;
   }
+}
+
+// A plant that is all feedthrough (PA4 wired to the ADC's pin, the DAC's output at once): each sample's y is the
+// previous sample's v, never its own, because y(t) is converted before v(t) is written. Volts both ways (the default
+// plan); one code of the DAC and of the ADC is 3.3 / 4095 = 0.8 mV each.
+TEST(Stm32f4AnalogTick, TheOutputIsConvertedBeforeTheCommandIsWritten) {
+  AnalogChipModel chip;
+  chip.dac_wired_to_adc = true;
+  AnalogPlan plan;
+  start_dac(chip, plan);
+  start_adc(chip, plan);
+  float y = 0;
+  const float v[] = {1.0F, 2.5F, 0.5F};
+  TickStatus s = sample_then_actuate(chip, plan, v[0], y);
+  EXPECT_EQ(s.measured, Status::kOk);
+  EXPECT_EQ(s.actuated, Status::kOk);
+  for (int k = 1; k < 3; ++k) {
+    s = sample_then_actuate(chip, plan, v[k], y);
+    EXPECT_EQ(s.measured, Status::kOk);
+    EXPECT_EQ(s.actuated, Status::kOk);
+    EXPECT_NEAR(y, v[k - 1], 2 * 3.3 / 4095.0) << k;  // the previous v, to a code of each converter
+  }
+  // A command outside the DAC's range is not written; the conversion before it still is this sample's y.
+  s = sample_then_actuate(chip, plan, 3.25F, y);
+  EXPECT_EQ(s.actuated, Status::kOutOfRange);
+  EXPECT_EQ(s.measured, Status::kOk);
+  EXPECT_NEAR(y, v[2], 2 * 3.3 / 4095.0);
+  EXPECT_TRUE(chip.breaches.empty()) << chip.breaches.front();
 }
 
 }  // namespace

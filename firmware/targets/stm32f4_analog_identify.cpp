@@ -77,10 +77,19 @@ class Stm32f4AnalogBoard {
   /// Back to the rest value: after every run, whatever ended it (a refused design, a stop, a fault, the end).
   void rest() { (void)stm32f4::write_dac(bus_, kAnalogPlan, kAnalogPlan.actuator_rest); }
 
+  /// Converts y(t), then writes v(t) (sample_then_actuate: v(t) has no path into y(t)); measure() gives that y(t).
   /// kOk; kOutOfRange outside the DAC's range (not applied; the design check keeps the sequencer inside it).
-  hal::Status actuate(float v) { return stm32f4::write_dac(bus_, kAnalogPlan, v); }
-  /// kOk; kOutOfRange for a clipped code (0 or 4095); kTimeout or kSensorFault for a conversion that failed.
-  hal::Status measure(float& y) { return stm32f4::read_adc(bus_, kAnalogPlan, y, emulated_); }
+  hal::Status actuate(float v) {
+    const stm32f4::TickStatus s = stm32f4::sample_then_actuate(bus_, kAnalogPlan, v, y_, emulated_);
+    measured_ = s.measured;
+    return s.actuated;
+  }
+  /// y(t) as converted at this sample's tick, before v(t) was written. kOk; kOutOfRange for a clipped code (0 or
+  /// 4095); kTimeout for a conversion that never ended.
+  hal::Status measure(float& y) {
+    y = y_;
+    return measured_;
+  }
   hal::Status wait_for_sample_tick() { return platform_.wait_for_sample_tick(); }
   hal::Status link_write(const std::uint8_t* data, std::size_t size) { return stm32f4::queued_link_write(data, size); }
   hal::Status link_read(std::uint8_t& byte) { return platform_.link_read(byte); }
@@ -94,6 +103,8 @@ class Stm32f4AnalogBoard {
   stm32f4::Stm32f4Platform platform_;
   stm32f4::MmioBus bus_;
   bool emulated_ = false;
+  float y_ = 0.0F;                            // this sample's conversion, made in actuate()
+  hal::Status measured_ = hal::Status::kTimeout;  // no conversion yet
 };
 
 static_assert(hal::Board<Stm32f4AnalogBoard>);

@@ -18,7 +18,9 @@ concept Board = requires(B& board, const B& const_board, float v, float& y, std:
   /// kOk; kOutOfRange (outside the actuator's range: not applied); kLinkError / kTimeout (remote actuator).
   { board.actuate(v) } -> std::same_as<Status>;
 
-  /// Measures the output y(t) of the current sample (after actuate()).
+  /// Measures the output y(t) of the current sample (called after actuate()). y(t) is the output at the sample
+  /// instant, which v(t) has not reached (the model has no direct feedthrough, b_0 = 0): a board that converts a
+  /// physical signal samples it before it applies v(t) (the STM32F4 analog board: sample_then_actuate).
   /// kOk; kOutOfRange (a value, but not usable: non-finite or outside the sensor's range; the sequencer counts the
   /// sample as bad, estimates without it and goes on); kSensorFault (no measurement for this sample: the run ends
   /// with a sensor fault, so a glitch that still gives a sample must be kOutOfRange); kTimeout (ends the run like

@@ -11,6 +11,7 @@
 //                     reaches (0.2 V to Vref - 0.2 V)
 //   read_adc          one conversion: EOC awaited (bounded), a clipped code is kOutOfRange, a conversion that does
 //                     not finish is kTimeout
+//   sample_then_actuate  one sample instant: y(t) converted, then v(t) written (no path from v(t) into y(t))
 //
 // QEMU 7.2's netduinoplus2 has no DAC (writes ignored) and an ADC that never sets SR.EOC: its DR answers, while
 // SWSTART is set, a code 7 above the last one (a sawtooth modulo 4096). With `emulated` (the clock tree found no
@@ -235,6 +236,25 @@ template <RegisterBus Bus>
   const std::uint32_t code = bus.read(kAdcDr) & kFullScaleCode;
   y = plan.sensor_value(code);
   return code == 0U || code == kFullScaleCode ? Status::kOutOfRange : Status::kOk;
+}
+
+/// What sample_then_actuate did: the conversion's status (read_adc's) and the write's (write_dac's).
+struct TickStatus {
+  Status measured = Status::kOk;
+  Status actuated = Status::kOk;
+};
+
+/// One sample instant: y(t) is converted first, then v(t) is written. The model A y = B u has no direct feedthrough
+/// (b_0 = 0): y(t) must not see v(t). Written first, the DAC's output settles over 3-6 us (t_SETTLING, DS8626) while
+/// the ADC samples for 4 us (84 cycles at 21 MHz), and a fast stage, or a sensor wired near the DAC's node, would
+/// put part of v(t) into y(t): a b_0 the estimator cannot represent, biasing the other parameters.
+template <RegisterBus Bus>
+[[nodiscard]] TickStatus sample_then_actuate(Bus& bus, const AnalogPlan& plan, float v, float& y,
+                                             bool emulated = false) {
+  TickStatus s;
+  s.measured = read_adc(bus, plan, y, emulated);
+  s.actuated = write_dac(bus, plan, v);
+  return s;
 }
 
 }  // namespace lashid::hal::stm32f4
