@@ -6,7 +6,8 @@
 //   step experiment (4.1) -> AP pulse experiment (4.2) -> AIS estimate -> validation phase (ValidationExcitation)
 //   -> cross-check of the two linear estimates (Remark 3b) -> reports over the link (estimates, cross-check, cost)
 //   -> done [-> holding the reports: sent again on kReport, until kFinish or kReportHoldSeconds].
-// Each stage change is announced with a kStatus frame (progress for the host). Commands over the link
+// Each change to a measuring stage is announced with a kStatus frame (progress for the host); the end is the
+// reports, then kDone with the run's status. Commands over the link
 // (hal/link_protocol.hpp): design, start, stop, query, report, finish. A sensor value that is NaN, infinite or
 // outside the design's sensor range is counted (CostRecord::bad_sensor_values) and never estimated from. On a board
 // whose link writes do not wait (hal::BuffersLinkWrites), a start with kStartStreamSamples also sends every sample

@@ -66,8 +66,8 @@ std::uint32_t fp_features();
 /// arrive per millisecond, so without the interrupt a command sent during a run would overrun it on a chip (QEMU
 /// holds bytes back instead, which hid it).
 ///
-/// 256 bytes: more than the sequencer takes per poll (kPollBudget, two maximal frames), and 22 ms of input at
-/// 115200 baud, far more than a poll gap.
+/// 256 bytes: 22 ms of input at 115200 baud, where the sequencer polls the link every sample (about 12 bytes
+/// arrive between two polls at 1 kHz), and more than one maximal frame (kMaxFrame), the longest a command can be.
 using LinkRxQueue = IsrByteQueue<256>;
 LinkRxQueue& link_rx_queue();
 /// Enables external interrupt `irq` in the NVIC (ISER; priority left at its reset value, the highest).
