@@ -108,6 +108,7 @@ TEST_F(CliMistakes, IdentifyBothNeedsBothSchemesPhasesAndAutoTakesWhatThereIs) {
   const Outcome both = run({"identify", "--config", "cfg.json", "--data", "dis_only.csv", "--scheme", "both"});
   EXPECT_EQ(both.exit_code, 1) << both;
   EXPECT_TRUE(Contains(both.err, "step_a")) << both;
+  EXPECT_FALSE(Contains(both.out, "DIS")) << "a result printed before the error: " << both;
   const Outcome automatic = run({"identify", "--config", "cfg.json", "--data", "dis_only.csv", "--json", "e.json"});
   ASSERT_EQ(automatic.exit_code, 0) << automatic;
   const json e = json::parse(slurp(work_ / "e.json"));
@@ -222,6 +223,22 @@ TEST_F(CliMistakes, ASensorRangeOfTheWrongSizeIsSaidPlainly) {
   const Outcome r = run({"design", "--check", "cfg.json"});
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_TRUE(Contains(r.err, "cfg.json: 'sensor_range' must have 2 entries, got 3")) << r;
+}
+
+// A config's sensor_range is applied by identify as by the device: the y outside it are left out and said (the
+// dis_paper recording's y reaches above 215 in both schemes' phases; its config had no range).
+TEST_F(CliMistakes, IdentifyLeavesOutWhatLiesOutsideTheSensorRangeAndSaysSo) {
+  simulate("rec.csv", "cfg.json");
+  json cfg = json::parse(slurp(work_ / "cfg.json"));
+  cfg["sensor_range"] = {-1000, 215};
+  std::ofstream(work_ / "ranged.json") << cfg.dump();
+  const Outcome r = run({"identify", "--config", "ranged.json", "--data", "rec.csv", "--float"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_TRUE(Contains(r.err, "outside the config's sensor_range [-1000, 215] left out")) << r;
+  const Outcome plain = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--float"});
+  ASSERT_EQ(plain.exit_code, 0) << plain;
+  EXPECT_FALSE(Contains(plain.err, "sensor_range")) << plain;
+  EXPECT_NE(r.out, plain.out) << "the range changed nothing: the test tests nothing";
 }
 
 // The generator's rules on --cause are said in terms of the option.

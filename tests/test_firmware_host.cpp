@@ -428,6 +428,48 @@ TEST(FirmwareOnHostBoard, AFailedSchemeReportsItsStatusAndNoValues) {
   EXPECT_EQ(r.cross.max_z, -1.0F);  // no cross-check without both schemes
 }
 
+// identify applies the config's sensor_range as the device does: each y outside it is left out with its lag rows,
+// which is the same estimate as that y made NaN under leave_out_unusable_y (the path checked against the firmware
+// above), in both precisions; the count is the recording's own (y above the bound, counted here).
+TEST(IdentifyWithASensorRange, LeavesOutTheValuesOutsideAsTheDeviceDoes) {
+  const sim::Scenario& s = sim::find_scenario("ais_paper");
+  sim::SimulationOptions options;
+  options.seed = 7;
+  options.validation_phase = false;
+  const sim::Recording rec = sim::simulate(s, options);
+  // A bound that the AIS phases' largest outputs pass: the top 0.2 % of their y.
+  std::vector<double> ys;
+  for (const sim::Phase p : {sim::Phase::kStepA, sim::Phase::kAis}) {
+    for (const sim::Sample& x : rec.phase(p)) ys.push_back(x.y);
+  }
+  std::sort(ys.begin(), ys.end());
+  const double hi = ys[ys.size() - ys.size() / 500];
+  const std::int64_t count = std::count_if(ys.begin(), ys.end(), [&](double y) { return y > hi; });
+  ASSERT_GT(count, 5);
+  sim::ExperimentConfig ranged = s.config;
+  ranged.sensor_range = std::array<double, 2>{-1e6, hi};
+  sim::Recording as_nan;
+  for (const sim::Phase p : rec.order()) {
+    for (const sim::Sample& x : rec.phase(p)) as_nan.append(p, x.v, x.y > hi ? std::nan("") : x.y);
+  }
+  for (const sim::Precision precision : {sim::Precision::kFloat, sim::Precision::kDouble}) {
+    sim::IdentifyOptions plain;
+    plain.precision = precision;
+    const sim::SchemeResult r = sim::identify_scheme(ranged, rec, est::Scheme::kAscending, plain, "rec");
+    sim::IdentifyOptions nan = plain;
+    nan.leave_out_unusable_y = true;
+    const sim::SchemeResult e = sim::identify_scheme(s.config, as_nan, est::Scheme::kAscending, nan, "rec");
+    EXPECT_EQ(r.out_of_sensor_range, count);
+    EXPECT_EQ(e.out_of_sensor_range, 0);
+    ASSERT_EQ(r.status, est::Status::kOk);
+    EXPECT_EQ(r.rows, e.rows);
+    EXPECT_EQ(r.theta, e.theta);
+    EXPECT_EQ(r.F, e.F);
+    // Without the range, the same recording gives another estimate (the test can fail).
+    EXPECT_NE(sim::identify_scheme(s.config, rec, est::Scheme::kAscending, plain, "rec").theta, r.theta);
+  }
+}
+
 TEST(FirmwareOnHostBoard, TheHostLeavesOutAFiniteReadingTooLargeForTheEstimatorAsTheDeviceDoes) {
   static_assert(1e20F > est::kMaxSampleMagnitude<float>);
   expect_host_leaves_out_what_the_device_did(1e20F);

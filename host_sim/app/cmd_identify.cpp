@@ -1,6 +1,7 @@
 // `lashid identify`: DIS and/or AIS on a recording, printed next to the truth, optionally as JSON.
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -34,12 +35,23 @@ int run_identify(const IdentifyArgs& args) {
   if (!want_dis && !want_ais) {
     throw DataError(args.data, "no 'dis' or 'ais' phase: nothing to identify");
   }
-  nlohmann::json out = nlohmann::json::object();
-  int exit_code = 0;
+  // Both schemes first, then the output: a scheme that fails on its data (a missing phase) prints nothing at all.
+  std::vector<SchemeResult> results;
   for (const auto scheme : {est::Scheme::kDescending, est::Scheme::kAscending}) {
     const bool dis = scheme == est::Scheme::kDescending;
     if (dis ? !want_dis : !want_ais) continue;
-    const SchemeResult r = identify_scheme(config, rec, scheme, options, args.data);
+    results.push_back(identify_scheme(config, rec, scheme, options, args.data));
+  }
+  nlohmann::json out = nlohmann::json::object();
+  int exit_code = 0;
+  for (const SchemeResult& r : results) {
+    const bool dis = r.scheme == est::Scheme::kDescending;
+    if (r.out_of_sensor_range > 0) {
+      fmt::print(stderr, "note: {}: {} sample{} outside the config's sensor_range [{:g}, {:g}] left out, with the rows "
+                         "that lag them, as the device leaves them out\n",
+                 dis ? "DIS" : "AIS", r.out_of_sensor_range, r.out_of_sensor_range > 1 ? "s" : "",
+                 (*config.sensor_range)[0], (*config.sensor_range)[1]);
+    }
     report::print_scheme_result(config, r);
     if (r.status != est::Status::kOk) exit_code = 2;
     out[dis ? "dis" : "ais"] = to_json(r);

@@ -21,9 +21,9 @@ using namespace lashid::sim;
 
 namespace {
 
-// The recording as the device estimated from it: the samples it set aside as NaN, which the estimator leaves out as
-// the firmware did. Those a streamed run named (their run indices in `set_aside`), and any y outside the design's
-// sensor range (the firmware's own float test: a played plant's answers are not named one by one).
+// The recording as the device estimated from it: the samples a streamed run named as set aside (their run indices
+// in `set_aside`) become NaN, which the estimator leaves out as the firmware did. A y outside the config's sensor
+// range is left out by identify_scheme itself, by the design's own float test.
 Recording without_set_aside(const Recording& rec, const fw::RunDesign& design,
                             const std::vector<std::uint64_t>& set_aside) {
   std::vector<RunSamplePlace> places;
@@ -32,10 +32,9 @@ Recording without_set_aside(const Recording& rec, const fw::RunDesign& design,
   for (const Phase phase : rec.order()) {
     const auto samples = rec.phase(phase);
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      const bool aside = !design.sensor_value_ok(static_cast<float>(samples[i].y)) ||
-                         std::any_of(places.begin(), places.end(), [&](const RunSamplePlace& p) {
-                           return p.part == RunSamplePlace::Part::kPhase && p.phase == phase && p.t == i;
-                         });
+      const bool aside = std::any_of(places.begin(), places.end(), [&](const RunSamplePlace& p) {
+        return p.part == RunSamplePlace::Part::kPhase && p.phase == phase && p.t == i;
+      });
       out.append(phase, samples[i].v, aside ? std::numeric_limits<double>::quiet_NaN() : samples[i].y);
     }
   }

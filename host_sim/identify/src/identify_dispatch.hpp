@@ -5,7 +5,10 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -59,19 +62,40 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   if (const est::Status s = id.configure(design, config.n); s != est::Status::kOk) {
     throw DataError(data_name, fmt::format("config rejected by the estimator: {}", est::to_string(s)));
   }
+  // The config's sensor range, as the device applies it: in float32 with its bounds rounded outwards (the design
+  // it is sent in, config_design.cpp), exactly in double. A y outside it is a bad sensor value: left out, with the
+  // rows that lag it, as the device leaves it out.
+  Scalar range_lo = -std::numeric_limits<Scalar>::infinity(), range_hi = std::numeric_limits<Scalar>::infinity();
+  if (config.sensor_range) {
+    range_lo = static_cast<Scalar>((*config.sensor_range)[0]);
+    range_hi = static_cast<Scalar>((*config.sensor_range)[1]);
+    if constexpr (std::is_same_v<Scalar, float>) {
+      range_lo = std::nextafter(range_lo, -std::numeric_limits<float>::infinity());
+      range_hi = std::nextafter(range_hi, std::numeric_limits<float>::infinity());
+    }
+  }
+  std::int64_t out_of_range = 0;
   const auto feed = [&](Phase phase, auto add) {
     const auto samples = recording.phase(phase);
-    // Samples since the last unusable y of the phase (IdentifyOptions::leave_out_unusable_y): a row whose y or any
-    // of its n lags is NaN, or finite but beyond what the estimator takes (est::usable, in the precision run), is
-    // left out by the estimator, as on the device, and is no error then.
-    std::size_t since_unusable = static_cast<std::size_t>(config.n) + 1;
+    const auto n = static_cast<std::size_t>(config.n);
+    // Samples since the last y outside the sensor range, and since the last other unusable y of the phase (NaN,
+    // infinite, or beyond what the estimator takes: est::usable, in the precision run; IdentifyOptions::
+    // leave_out_unusable_y). A row whose y or any of its n lags is either is left out by the estimator, as on the
+    // device, and is no error then; an unusable y is an error naming it unless the option says otherwise.
+    std::size_t since_range = n + 1, since_unusable = n + 1;
     for (std::size_t t = 0; t < samples.size(); ++t) {
-      since_unusable = est::usable(static_cast<Scalar>(samples[t].y)) ? since_unusable + 1 : 0;
-      const est::Status s = add(static_cast<Scalar>(samples[t].v), static_cast<Scalar>(samples[t].y));
-      if (s == est::Status::kNonFinite && leave_out_unusable_y && std::isfinite(samples[t].v) &&
-          since_unusable <= static_cast<std::size_t>(config.n)) {
-        continue;
+      Scalar y = static_cast<Scalar>(samples[t].y);
+      const bool outside = est::usable(y) && !(y >= range_lo && y <= range_hi);
+      if (outside) {
+        y = std::numeric_limits<Scalar>::quiet_NaN();
+        ++out_of_range;
       }
+      since_range = outside ? 0 : since_range + 1;
+      since_unusable = outside || est::usable(y) ? since_unusable + 1 : 0;
+      const est::Status s = add(static_cast<Scalar>(samples[t].v), y);
+      const bool left_out = since_range <= n || (leave_out_unusable_y && since_unusable <= n);
+      const bool unexcused = !leave_out_unusable_y && since_unusable <= n;
+      if (s == est::Status::kNonFinite && std::isfinite(samples[t].v) && left_out && !unexcused) continue;
       if (s != est::Status::kOk) {
         throw DataError(data_name, fmt::format("phase {} t = {}: {}", to_string(phase), t,
                                                describe(s, config, scheme, samples[t].v)));
@@ -100,6 +124,7 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   r.rows = e.ls.rows;
   r.step_samples = id.step_samples();
   r.pulse_samples = id.pulse_samples();
+  r.out_of_sensor_range = out_of_range;
   return r;
 }
 

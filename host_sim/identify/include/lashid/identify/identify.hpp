@@ -43,9 +43,13 @@ struct SchemeResult {
   std::uint32_t rows = 0;
   std::int64_t step_samples = 0;
   std::int64_t pulse_samples = 0;
+  /// Samples of the two phases whose y lay outside the config's sensor_range: left out with the rows that lag them,
+  /// as the device leaves out a bad sensor value (docs/data-format.md).
+  std::int64_t out_of_sensor_range = 0;
 };
 
-/// Identifies one scheme from its two phases (step_d + dis, or step_a + ais). Throws DataError (naming the data
+/// Identifies one scheme from its two phases (step_d + dis, or step_a + ais). A y outside the config's sensor_range
+/// is left out as the device leaves it out (SchemeResult::out_of_sensor_range). Throws DataError (naming the data
 /// source, phase, t and the reason) when a sample is off the design of `config`, or when the phases are missing.
 /// Numerical failure (ill-conditioning, degenerate gain) is not thrown: it is the result's status.
 SchemeResult identify_scheme(const ExperimentConfig& config, const Recording& recording, est::Scheme scheme,
