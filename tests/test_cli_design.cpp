@@ -142,12 +142,13 @@ TEST_F(CliDesign, RefusesBadOptionsNamingTheRuleAndWritesNothing) {
     std::string message;
   };
   for (const Case& c : std::vector<Case>{
+           // The options are at fault, not the file to be written: named as options, and the file not at all.
            {{"--pulse-length", "20"},
-            "cfg.json: 'pulse_length_d' = 20 is shorter than two pulse periods (2T = 36 for n = 2, m = 6); nothing "
+            "lashid: error: --pulse-length = 20 is shorter than two pulse periods (2T = 36 for n = 2, m = 6); nothing "
             "written"},
-           {{"--step-length", "2"}, "'step_length' = 2 must be greater than n = 2"},
-           {{"--val-length", "-1"}, "'val_length' = -1 must not be negative"},
-           {{"--val-seed", "4294967296"}, "'val_seed' = 4294967296 is too large (at most 4294967295)"},
+           {{"--step-length", "2"}, "error: --step-length = 2 must be greater than n = 2"},
+           {{"--val-length", "-1"}, "error: --val-length = -1 must not be negative"},
+           {{"--val-seed", "4294967296"}, "error: --val-seed = 4294967296 is too large (at most 4294967295)"},
            {{"--levels", "6"}, "--levels 6 must be at least m + 1 = 7"},
        }) {
     const Outcome r = with(c.extra);
@@ -155,6 +156,11 @@ TEST_F(CliDesign, RefusesBadOptionsNamingTheRuleAndWritesNothing) {
     EXPECT_TRUE(Contains(r.err, c.message)) << r;
     EXPECT_FALSE(fs::exists(work_ / "cfg.json")) << c.message;
   }
+  const Outcome inverted = design({"--n", "2", "--m", "6", "--v-min", "5", "--v-max", "4", "--operator", "switch",
+                                   "--out", "cfg.json"});
+  EXPECT_EQ(inverted.exit_code, 1) << inverted;
+  EXPECT_TRUE(Contains(inverted.err, "error: --v-max = 4 must be greater than --v-min = 5")) << inverted;
+  EXPECT_FALSE(fs::exists(work_ / "cfg.json"));
   // n = 5 is beyond both the firmware image and the host estimator (n <= 4): nothing written.
   const Outcome fifth = design({"--n", "5", "--m", "6", "--v-min", "-3", "--v-max", "4", "--operator", "switch",
                                 "--out", "cfg.json"});

@@ -123,6 +123,23 @@ double grid_level(double v_min, double v_max, int K, int i) {
   return v_min * ((steps - i) / steps) + v_max * (i / steps);
 }
 
+// A rule the reader states on a config key ('val_length' = -1 must not be negative), said in terms of the option
+// that gave the value: the options are at fault, not the file about to be written.
+std::string in_option_terms(std::string message) {
+  static constexpr std::pair<std::string_view, std::string_view> kOptions[] = {
+      {"'pulse_length_d'", "--pulse-length"}, {"'pulse_length_a'", "--pulse-length"},
+      {"'step_length'", "--step-length"},     {"'val_length'", "--val-length"},
+      {"'val_seed'", "--val-seed"},           {"'v_min'", "--v-min"},
+      {"'v_max'", "--v-max"},                 {"'V_d'", "V_d (from --v-min, --v-max, --levels)"},
+      {"'V_a'", "V_a (from --v-min, --v-max, --levels)"}};
+  for (const auto& [key, option] : kOptions) {
+    for (std::size_t at = message.find(key); at != std::string::npos; at = message.find(key, at + option.size())) {
+      message.replace(at, key.size(), option);
+    }
+  }
+  return message;
+}
+
 int run_write(const DesignArgs& a) {
   if (a.n < kMinOrder || a.n > kMaxOrder || a.m < kMinPoints || a.m > kMaxPoints) {
     throw std::invalid_argument(fmt::format("--n {} --m {}: need n in [{}, {}] and m in [{}, {}]; nothing written", a.n,
@@ -159,11 +176,12 @@ int run_write(const DesignArgs& a) {
   try {
     config = parse_config_json(document.dump(), a.out);
   } catch (const DataError& e) {
-    throw DataError(a.out, without_source(e, a.out) + "; nothing written");
+    throw std::invalid_argument(in_option_terms(without_source(e, a.out)) + "; nothing written");
   }
   const Verdict v = judge(config, a.out);
   if (!v.firmware.empty()) {
-    throw DataError(a.out, "the firmware image could not run this design: " + v.firmware + "; nothing written");
+    throw std::invalid_argument("the firmware image could not run this design: " + in_option_terms(v.firmware) +
+                                "; nothing written");
   }
   write_json_file(a.out, to_json(config));
   print_summary(config, v, a.out);
