@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -321,6 +323,21 @@ TEST_F(Cli, DiagnoseFindsAHiddenDeadTimeAndWritesTheJson) {
   const Outcome gen = run({"hidden-effect", "--cause", "dead_time", "--seed", "11", "--out", csv, "--config-out", cfg});
   ASSERT_EQ(gen.exit_code, 0) << gen;
   EXPECT_EQ(slurp(cfg).find("delay"), std::string::npos) << "the effect must not leak into the config";
+  {
+    // The config says what the recording holds (its lengths), as simulate's does: counted here from the CSV.
+    const json config = json::parse(slurp(cfg));
+    std::map<std::string, int> rows;
+    std::istringstream lines(slurp(csv));
+    for (std::string line; std::getline(lines, line);) {
+      if (!line.empty() && line[0] != '#' && line.find(',') != std::string::npos) ++rows[line.substr(0, line.find(','))];
+    }
+    ASSERT_EQ(rows["step_d"], rows["step_a"]);
+    EXPECT_EQ(config.at("step_length").get<int>(), rows["step_d"] - 1);
+    EXPECT_EQ(config.at("pulse_length_d").get<int>(), rows["dis"]);
+    EXPECT_EQ(config.at("pulse_length_a").get<int>(), rows["ais"]);
+    EXPECT_EQ(config.at("val_length").get<int>(), rows["val"]);
+    EXPECT_GT(rows["val"], 0);
+  }
   const Outcome r = run({"diagnose", "--config", cfg, "--data", csv, "--json", out});
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_NE(r.out.find("cause: dead_time"), std::string::npos) << r;

@@ -81,7 +81,14 @@ int run_hidden_effect(const HiddenEffectArgs& args) {
   }
   check_can_write(args.data_out);
   check_can_write(args.config_out);
-  write_json_file(args.config_out, to_json(c.config));
+  // The config says what the recording holds, as simulate's does: its lengths (docs/data-format.md).
+  ExperimentConfig config = c.config;
+  const auto length = [&](Phase p) { return static_cast<int>(c.recording.phase(p).size()); };
+  if (length(Phase::kStepD) == length(Phase::kStepA)) config.step_length = length(Phase::kStepD) - 1;
+  config.pulse_length_d = length(Phase::kDis);
+  config.pulse_length_a = length(Phase::kAis);
+  config.val_length = length(Phase::kVal);
+  write_json_file(args.config_out, to_json(config));
   try {
     write_recording_csv(args.data_out, c.recording,
                         {fmt::format("lashid hidden-effect --cause {} --seed {} --borders {} (the effect is not in "
