@@ -124,6 +124,20 @@ TEST_F(CliPlant, AMalformedPlantFileIsNamedWithItsKeyAndNothingIsWritten) {
   EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
 }
 
+// Values each valid alone that make the output overflow (a drift of 1e308 per sample): the plant file is named as
+// the cause, not the output file that could not hold an infinite y.
+TEST_F(CliPlant, APlantWhoseOutputOverflowsIsNamedAndNothingIsWritten) {
+  json big = plant();
+  big["sensor_drift_per_sample"] = 1e308;
+  write("plant.json", big);
+  write("cfg.json", config());
+  const Outcome r = run({"simulate", "--plant", "plant.json", "--config", "cfg.json", "--out", "rec.csv"});
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_TRUE(Contains(r.err, "lashid: error: plant.json: the plant's output is not finite at phase")) << r;
+  EXPECT_FALSE(Contains(r.err, "rec.csv")) << r;
+  EXPECT_FALSE(fs::exists(work_ / "rec.csv"));
+}
+
 TEST_F(CliPlant, ABorderGridThatMissesTheIntervalAndADesignTheDeviceRefusesAreErrors) {
   json narrow = plant();
   narrow["borders"]["v"] = {-1, 2};

@@ -1,4 +1,5 @@
 // `lashid scenarios` and `lashid simulate`: the built-in plants and plant files, and recordings of them.
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 
 #include "commands.hpp"
 #include "lashid/hil/config_design.hpp"
+#include "lashid/io/data_error.hpp"
 #include "lashid/io/files.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/report/json.hpp"
@@ -34,6 +36,18 @@ int run_simulate_plant(const SimulateArgs& args) {
   // The design the firmware would run for this config file: its lengths or their documented defaults.
   const fw::RunDesign design = to_run_design(config, args.config);
   const Recording rec = simulate_file_plant(spec, args.plant, config, design, args.seed);
+  // A plant whose values make its output overflow (a drift of 1e308 per sample, a huge gain) is the plant file's
+  // fault, not the output file's: said before anything is written.
+  for (const Phase phase : rec.order()) {
+    const auto samples = rec.phase(phase);
+    for (std::size_t t = 0; t < samples.size(); ++t) {
+      if (std::isfinite(samples[t].y)) continue;
+      throw DataError(args.plant, fmt::format("the plant's output is not finite at phase {} t = {} (y = {}): its "
+                                              "values overflow the simulation (a gain, drift or noise too large, "
+                                              "or A unstable); nothing written",
+                                              to_string(phase), t, samples[t].y));
+    }
+  }
   const std::vector<std::string> comments{
       fmt::format("lashid simulate --plant {} --config {} --seed {}", args.plant, args.config, args.seed),
       plant_summary(spec),
