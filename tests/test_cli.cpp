@@ -105,6 +105,21 @@ TEST_F(Cli, NoSubcommandOrUnknownOptionFails) {
   EXPECT_TRUE(files_below(work_).empty()) << "nothing is simulated when the arguments are wrong";
 }
 
+// CLI11 says what is missing before the word it did not know: a misspelt command was "A subcommand is required"
+// and a misspelt required option "--config is required". The mistyped word is named, with the closest known name.
+TEST_F(Cli, AMisspeltCommandOrOptionIsNamedWithTheClosestKnownName) {
+  const Outcome command = run({"idntify"});
+  EXPECT_EQ(command.exit_code, 109) << command;
+  EXPECT_TRUE(Contains(command.err, "'idntify' is not a command (did you mean 'identify'?); the commands: ")) << command;
+  std::ofstream(work_ / "rec.csv") << "";
+  const Outcome option = run({"identify", "--confg", "cfg.json", "--data", (work_ / "rec.csv").string()});
+  EXPECT_EQ(option.exit_code, 109) << option;
+  EXPECT_TRUE(Contains(option.err, "identify: unknown option --confg (did you mean --config?)")) << option;
+  const Outcome missing = run({"identify", "--data", (work_ / "rec.csv").string()});
+  EXPECT_EQ(missing.exit_code, 106) << missing;  // a required option left out is still said so
+  EXPECT_TRUE(Contains(missing.err, "--config is required")) << missing;
+}
+
 TEST_F(Cli, NegativeSeedIsRejectedInsteadOfWrappingAround) {
   for (const char* subcommand : {"simulate", "reproduce", "hil"}) {
     const std::string name = subcommand;

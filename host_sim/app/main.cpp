@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <new>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -366,6 +367,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+      if (const std::optional<std::string> word = unknown_word(app, argc, argv)) {
+        fmt::print(stderr, "{}\nRun with --help for more information.\n", *word);
+        return static_cast<int>(CLI::ExitCodes::ExtrasError);
+      }
+    }
     return app.exit(e);
   }
   try {
