@@ -381,6 +381,18 @@ TEST_F(CliBadInput, DiagnoseNamesTheMissingPhaseAndWritesNothing) {
   EXPECT_EQ(r.exit_code, 1) << r;
   EXPECT_NE(r.err.find("noval.csv: diagnose needs all five phases; 'val' is missing"), std::string::npos) << r;
   EXPECT_EQ(files_below(work_), before);
+  // A val phase whose y never changes (a stuck sensor) is named with the file, not as fit_percent's zero variance.
+  std::string stuck;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.starts_with("val,")) line = line.substr(0, line.rfind(',')) + ",1.5";
+    stuck += line + "\n";
+  }
+  std::ofstream(work_ / "stuck.csv") << stuck;
+  const Outcome flat = run({"diagnose", "--config", (work_ / "cfg.json").string(), "--data",
+                            (work_ / "stuck.csv").string()});
+  EXPECT_EQ(flat.exit_code, 1) << flat;
+  EXPECT_TRUE(Contains(flat.err, "stuck.csv: phase 'val' has the same y (1.5) in all its")) << flat;
 }
 
 namespace {

@@ -367,5 +367,16 @@ TEST(Median, RejectsBadArguments) {
   EXPECT_THROW(median(std::vector<double>{1.0, inf}), std::invalid_argument);
 }
 
+// ||x - ref|| / ||ref||: (3, 4) against (0, 5) is ||(3, -1)|| / 5 = sqrt(10) / 5. Unequal lengths read past the end
+// before; a zero reference gave 0 / 0.
+TEST(RelativeDifference, HandComputedAndItsEdges) {
+  EXPECT_DOUBLE_EQ(relative_difference(std::vector<double>{3.0, 4.0}, std::vector<double>{0.0, 5.0}),
+                   std::sqrt(10.0) / 5.0);
+  EXPECT_THROW(relative_difference(std::vector<double>{1.0}, std::vector<double>{1.0, 2.0}), std::invalid_argument);
+  EXPECT_EQ(relative_difference(std::vector<double>{0.0, 0.0}, std::vector<double>{0.0, 0.0}), 0.0);
+  EXPECT_EQ(relative_difference(std::vector<double>{0.0, 1e-3}, std::vector<double>{0.0, 0.0}), inf);
+  EXPECT_TRUE(std::isnan(relative_difference(std::vector<double>{nan}, std::vector<double>{1.0})));
+}
+
 }  // namespace
 }  // namespace lashid::sim::stats

@@ -1,5 +1,6 @@
 #include "lashid/diagnose/diagnosis.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -28,9 +29,17 @@ void check_diagnosable(const ExperimentConfig& config, const Recording& recordin
   }
   check_recording_matches(config, recording, data_name);
   const std::size_t min_val = 10 * static_cast<std::size_t>(kResidualLags);
-  if (recording.phase(Phase::kVal).size() < min_val) {
+  const auto val = recording.phase(Phase::kVal);
+  if (val.size() < min_val) {
     throw DataError(data_name, fmt::format("phase 'val' has {} samples; the residual tests need at least {}",
-                                           recording.phase(Phase::kVal).size(), min_val));
+                                           val.size(), min_val));
+  }
+  // The fits on val are relative to its variation: a constant output (a sensor stuck, a plant that never moved)
+  // gives nothing to judge a model by.
+  if (std::all_of(val.begin(), val.end(), [&](const Sample& s) { return s.y == val.front().y; })) {
+    throw DataError(data_name, fmt::format("phase 'val' has the same y ({:g}) in all its {} samples: nothing to "
+                                           "judge a model by",
+                                           val.front().y, val.size()));
   }
 }
 

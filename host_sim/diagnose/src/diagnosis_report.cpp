@@ -109,7 +109,11 @@ std::vector<std::string> describe_findings(const Diagnosis& d) {
                             id.independence.statistic, p_text(id.independence.p_value),
                             outside_band(id.cross_correlation, -kResidualLags, kResidualLags, id.band)));
   }
-  if (d.remark3b_z > 4) {
+  if (std::isnan(d.remark3b_z)) {
+    f.push_back(fmt::format("DIS and AIS were not compared (Remark 3b): a scheme's estimate failed (DIS: {}, AIS: "
+                            "{}).",
+                            est::to_string(d.dis.status), est::to_string(d.ais.status)));
+  } else if (d.remark3b_z > 4) {
     f.push_back(fmt::format("DIS and AIS disagree on A(q^-1), B(q^-1) by {:.1f} standard errors (Remark 3b): the "
                             "plant is not the assumed operator followed by the assumed linear block.",
                             d.remark3b_z));

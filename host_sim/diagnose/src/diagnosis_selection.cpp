@@ -379,8 +379,9 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   if (!check.white && correlation >= options.coloured_correlation) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
-    // simulates val at least as well (an IV fit of a large structure can be unstable).
-    if (iv.model.ok && simulation_fit(iv.model, data, d.val_begin, d.val_end) < current.fit) {
+    // was fitted (IV can find its instruments' matrix singular) and simulates val at least as well (an IV fit of a
+    // large structure can be unstable).
+    if (!iv.model.ok || simulation_fit(iv.model, data, d.val_begin, d.val_end) < current.fit) {
       iv.model = current.model;
       iv.parameters.instrumental_variables = false;
       iv.parameters.output_error = false;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "arguments.hpp"
@@ -49,11 +50,16 @@ double median(std::span<const double> x) {
 }
 
 double relative_difference(std::span<const double> x, std::span<const double> ref) {
+  if (x.size() != ref.size()) {
+    fail("relative_difference", fmt::format("x and ref must have equal lengths, got {} and {}", x.size(), ref.size()));
+  }
   double num = 0, den = 0;
   for (std::size_t k = 0; k < ref.size(); ++k) {
     num += (x[k] - ref[k]) * (x[k] - ref[k]);
     den += ref[k] * ref[k];
   }
+  // A zero reference: equal is 0 apart, anything else infinitely far (not 0 / 0 = NaN).
+  if (!(den > 0.0)) return num > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
   return std::sqrt(num / den);
 }
 

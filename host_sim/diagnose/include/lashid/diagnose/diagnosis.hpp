@@ -2,11 +2,11 @@
 // model and the gain on the validation phase. The method and its measured hit rates are in docs/diagnose.md.
 #pragma once
 
+#include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <optional>
 
 #include "lashid/analysis/joint_model.hpp"
 #include "lashid/identify/identify.hpp"
@@ -89,7 +89,9 @@ struct Diagnosis {
   ResidualAnalysis identification, validation;  ///< nominal model's one-step residuals
   ColoredNoiseCheck colored_check;              ///< of the final structure, before colored_noise is decided
   SchemeResult dis, ais;                        ///< the paper's per-scheme estimates
-  double remark3b_z = 0;  ///< max over a_i, b_i of |x(DIS) - x(AIS)| / sqrt(se^2 + se^2) (Remark 3b, est::cross_check)
+  /// max over a_i, b_i of |x(DIS) - x(AIS)| / sqrt(se^2 + se^2) (Remark 3b, est::cross_check); NaN when a scheme's
+  /// estimate failed and nothing was compared (null in the JSON).
+  double remark3b_z = std::numeric_limits<double>::quiet_NaN();
   std::vector<CandidateCause> candidates;
   std::vector<std::string> findings;  ///< what the simulation gets wrong, in words
   std::size_t val_begin = 0, val_end = 0;

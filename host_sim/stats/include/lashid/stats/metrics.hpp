@@ -19,7 +19,8 @@ double fit_percent(std::span<const double> measured, std::span<const double> sim
 double median(std::span<const double> x);
 
 // ||x - ref|| / ||ref|| (Euclidean norms): how far an estimate is from a reference (the truth, the paper's numbers,
-// another build of the same estimator). x and ref have the same length.
+// another build of the same estimator). x and ref must have the same length (std::invalid_argument otherwise); a
+// zero ref gives 0 for a zero x and infinity for any other; a NaN anywhere gives NaN.
 double relative_difference(std::span<const double> x, std::span<const double> ref);
 
 }  // namespace lashid::sim::stats
