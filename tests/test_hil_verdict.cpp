@@ -34,6 +34,7 @@ sim::HilResult good_run() {
   r.estimates = {estimate(est::Scheme::kDescending, 1.0f), estimate(est::Scheme::kAscending, 1.0f)};
   r.cross_check = fw::CrossCheckRecord{};
   r.cost = fw::CostRecord{};
+  r.cost->samples = 8290;  // the firmware's count: every sample the host played
   r.done = static_cast<int>(fw::RunStatus::kOk);
   r.qemu_exit = 0;
   r.samples = 8290;
@@ -114,6 +115,36 @@ TEST(HilVerdict, EveryDamagedFrameMustBeReRequested) {
   EXPECT_TRUE(v.ok());
   ASSERT_TRUE(v.fault_injection);
   EXPECT_TRUE(v.fault_injection->all_detected);
+}
+
+// A board with its own sensor attached as if it played the host's plant: the firmware measured 9034 samples, the
+// host played none, and the estimates are not the plant's. A count off by one either way fails too.
+TEST(HilVerdict, SamplesTheHostNeverPlayedAreANamedFailure) {
+  sim::HilResult r = good_run();
+  r.samples = 0;
+  r.cost->samples = 9034;
+  EXPECT_TRUE(sim::judge(r, nullptr, {}).has(HilFailure::kPlantNotPlayed));
+  r.samples = 9035;
+  EXPECT_TRUE(sim::judge(r, nullptr, {}).has(HilFailure::kPlantNotPlayed));
+  // A physical plant: the host plays nothing, and that is no failure.
+  sim::JudgeOptions physical;
+  physical.plant_played = false;
+  r.samples = 0;
+  EXPECT_TRUE(sim::judge(r, nullptr, physical).ok());
+}
+
+// A physical plant recorded from the firmware's stream: a sample block lost on the link is never sent again, so a
+// stream shorter than the firmware's count is an incomplete recording, not a pass.
+TEST(HilVerdict, AStreamShorterThanTheRunIsANamedFailure) {
+  sim::HilResult r = good_run();
+  sim::JudgeOptions streamed;
+  streamed.plant_played = false;
+  streamed.streamed = true;
+  r.cost->samples = 9034;
+  r.samples = 9034 - 14;  // one full block lost
+  EXPECT_TRUE(sim::judge(r, nullptr, streamed).has(HilFailure::kRecordingIncomplete));
+  r.samples = 9034;
+  EXPECT_TRUE(sim::judge(r, nullptr, streamed).ok());
 }
 
 TEST(HilVerdict, CrossCheckParameterNames) {

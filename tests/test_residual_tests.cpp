@@ -376,6 +376,8 @@ TEST(RelativeDifference, HandComputedAndItsEdges) {
   EXPECT_EQ(relative_difference(std::vector<double>{0.0, 0.0}, std::vector<double>{0.0, 0.0}), 0.0);
   EXPECT_EQ(relative_difference(std::vector<double>{0.0, 1e-3}, std::vector<double>{0.0, 0.0}), inf);
   EXPECT_TRUE(std::isnan(relative_difference(std::vector<double>{nan}, std::vector<double>{1.0})));
+  EXPECT_TRUE(std::isnan(relative_difference(std::vector<double>{1.0}, std::vector<double>{nan})));
+  EXPECT_TRUE(std::isnan(relative_difference(std::vector<double>{nan}, std::vector<double>{0.0})));
 }
 
 }  // namespace

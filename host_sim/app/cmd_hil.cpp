@@ -123,6 +123,8 @@ int run_checked_hil(const HilArgs& args) {
   JudgeOptions rules;
   rules.attached = !options.attach_link.empty();
   rules.tolerance = args.tolerance;
+  rules.plant_played = !args.physical_plant;
+  rules.streamed = args.physical_plant && !args.record.empty();
   HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
   // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3), with
   // the samples the firmware set aside left out as it did (without_set_aside). A streamed run must have named every
@@ -153,13 +155,19 @@ int run_checked_hil(const HilArgs& args) {
     if (!expected->equal) verdict.failures.push_back(HilFailure::kDifferentFromExpected);
   }
 
-  fmt::print("== hil: {} on {}, design {}, plant {} ==\n", args.firmware.empty() ? "attached board" : args.firmware,
-             args.machine, args.config.empty() ? args.scenario : args.config,
+  fmt::print("== hil: {}, design {}, plant {} ==\n",
+             args.firmware.empty() ? std::string("attached board") : fmt::format("{} on {}", args.firmware, args.machine),
+             args.config.empty() ? args.scenario : args.config,
              args.physical_plant ? std::string("physical (the board's own actuator and sensor)")
                                  : fmt::format("{} (seed {})", args.plant.empty() ? args.scenario : args.plant,
                                                args.seed));
-  fmt::print("  firmware result: {}; QEMU exit status {}{}\n", run_status_name(r.done), r.qemu_exit,
-             r.qemu_exit > 128 ? fmt::format(" (QEMU was killed by signal {})", r.qemu_exit - 128) : "");
+  if (rules.attached) {
+    fmt::print("  firmware result: {}; QEMU is not this command's (attached): its exit status is not known\n",
+               run_status_name(r.done));
+  } else {
+    fmt::print("  firmware result: {}; QEMU exit status {}{}\n", run_status_name(r.done), r.qemu_exit,
+               r.qemu_exit > 128 ? fmt::format(" (QEMU was killed by signal {})", r.qemu_exit - 128) : "");
+  }
   if (r.design_status > 0) {
     fmt::print("  the firmware refused the design: {}\n",
                fw::to_string(static_cast<fw::DesignStatus>(r.design_status)));
@@ -187,11 +195,20 @@ int run_checked_hil(const HilArgs& args) {
                  "stream (hal::BuffersLinkWrites: the STM32F405 analog image streams at sample rates its link can "
                  "carry, up to 1,200 Hz; docs/platform.md) ({} keeps what it held)\n",
                  r.cost->samples, args.record);
+    } else if (r.recorded == 0 && r.cost && r.cost->samples > 0) {
+      fmt::print("  no recording written: the run ended before its first phase ({} samples measured, in the interval "
+                 "check) ({} keeps what it held)\n",
+                 r.cost->samples, args.record);
     } else if (r.recorded == 0) {
       fmt::print("  no recording written: not a sample was measured ({} keeps what it held)\n", args.record);
     } else {
+      const bool lost = verdict.has(HilFailure::kRecordingIncomplete);
       fmt::print("  recorded {} samples to {}{}\n", r.recorded, args.record,
-                 r.recording_complete ? "" : " (partial: the run stopped before the design's end)");
+                 r.recording_complete ? ""
+                 : lost ? fmt::format(" (partial: {} of the {} samples the firmware measured were streamed; a lost "
+                                      "sample block is not sent again)",
+                                      r.samples, r.cost->samples)
+                        : " (partial: the run stopped before the design's end)");
     }
   }
   if (!args.record.empty() && r.recording_complete && !comparable) {

@@ -31,7 +31,7 @@ if run --timeout ${limit} --fault-rate 0.05 --fault-seed 7 --expect-estimates "$
 else
   cat "${dir}/bad.txt" | grep -v '^    '
   # A named failure: the tool's own time limit (it says which), a failed verdict, or a sensor fault; never a pass.
-  grep -Eq "no end after ${limit} s|verdict: FAIL|firmware result: sensor fault" "${dir}/bad.txt"
+  grep -Eq "no end within --timeout ${limit} s|verdict: FAIL|firmware result: sensor fault" "${dir}/bad.txt"
   if grep -q 'verdict: pass' "${dir}/bad.txt"; then echo "link_faults: a failed run said pass" >&2; exit 1; fi
 fi
 # Reported, not asserted (a shared machine's load sets it; CTest's TIMEOUT bounds the test).

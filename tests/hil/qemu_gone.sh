@@ -28,7 +28,7 @@ start=${SECONDS}
 run_and_signal STOP 15 "${dir}/stopped.txt" "${dir}/stopped.csv"
 # Reported, not asserted (a shared machine's load sets it): the tool's own words say it ended at its limit.
 echo "qemu_gone: stopped QEMU reported after $((SECONDS - start)) s"
-grep -q 'no end after 15 s .*QEMU stopped answering' "${dir}/stopped.txt"
+grep -q 'no end within --timeout 15 s .*QEMU stopped answering' "${dir}/stopped.txt"
 grep -q 'marked partial' "${dir}/stopped.txt"
 grep -q '^# partial recording' "${dir}/stopped.csv"
 

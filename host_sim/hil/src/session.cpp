@@ -356,7 +356,7 @@ class Session {
       }
       if (options_.fault_rate > 0 && step_ != Step::kFinish) why += ": the link loses too many frames";
     }
-    return fmt::format("hil: no end after {} s ({} samples exchanged): {}", options_.timeout_seconds,
+    return fmt::format("hil: no end within --timeout {} s ({} samples exchanged): {}", options_.timeout_seconds,
                        result_.samples, why);
   }
 

@@ -101,6 +101,12 @@ HilVerdict judge(const HilResult& run, const HilResult* host, const JudgeOptions
   }
   if (!dis_arrived || !ais_arrived) fail(HilFailure::kEstimateMissing);
 
+  // The firmware's own count of the samples it measured against what the host saw of them (its cost report; none
+  // when the run ended before reporting, and then there is nothing to compare).
+  if (run.cost) {
+    if (options.plant_played && run.cost->samples != run.samples) fail(HilFailure::kPlantNotPlayed);
+    if (options.streamed && run.samples < run.cost->samples) fail(HilFailure::kRecordingIncomplete);
+  }
   if (host != nullptr) {
     v.host = compare(run, v, *host, options.tolerance);
     if (!v.host->equal) fail(HilFailure::kDifferentFromHost);

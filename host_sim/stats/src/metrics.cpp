@@ -59,7 +59,7 @@ double relative_difference(std::span<const double> x, std::span<const double> re
     den += ref[k] * ref[k];
   }
   // A zero reference: equal is 0 apart, anything else infinitely far (not 0 / 0 = NaN).
-  if (!(den > 0.0)) return num > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
+  if (den == 0.0) return num == 0.0 ? 0.0 : num > 0.0 ? std::numeric_limits<double>::infinity() : num;  // num NaN
   return std::sqrt(num / den);
 }
 

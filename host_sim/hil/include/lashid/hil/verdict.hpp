@@ -23,6 +23,12 @@ enum class HilFailure : std::uint8_t {
   kDamagedFramesMissed,  ///< --corrupt-every: a damaged frame was not detected and re-requested
   kDifferentFromRecording,  ///< --record: the on-device estimates differ from the float32 identification of the recording
   kDifferentFromExpected,   ///< --expect-estimates: the estimates are not exactly those of the earlier run
+  /// A played plant: the firmware measured samples the host never played (an image with its own sensor, attached
+  /// as if it played the host's plant), or the host played samples the firmware did not count.
+  kPlantNotPlayed,
+  /// A physical plant with --record: the firmware measured samples it streamed that never arrived (a sample block
+  /// lost on the link: blocks are not sent again), so the recording is not the run's.
+  kRecordingIncomplete,
 };
 
 constexpr const char* to_string(HilFailure f) {
@@ -36,6 +42,8 @@ constexpr const char* to_string(HilFailure f) {
     case HilFailure::kDamagedFramesMissed: return "damaged frames not all detected";
     case HilFailure::kDifferentFromRecording: return "the on-device estimates differ from the recording's";
     case HilFailure::kDifferentFromExpected: return "the estimates differ from the expected ones";
+    case HilFailure::kPlantNotPlayed: return "the firmware's samples are not the plant the host played";
+    case HilFailure::kRecordingIncomplete: return "streamed samples were lost: the recording is incomplete";
   }
   return "unknown failure";
 }
@@ -82,6 +90,10 @@ struct HilVerdict {
 struct JudgeOptions {
   /// QEMU belongs to the user (--attach): its exit status is unknown (-1), and the kDone status decides.
   bool attached = false;
+  /// The host played the plant (not --physical-plant): every sample the firmware counts is one the host played.
+  bool plant_played = true;
+  /// --physical-plant --record: every sample the firmware counts must have been streamed to the host.
+  bool streamed = false;
   double tolerance = 1e-3;  ///< relative tolerance of the host comparison
 };
 
