@@ -2,6 +2,7 @@
 // clear error naming the option or file, a non-zero exit and no file written, or, where the command runs, a
 // result that cannot be mistaken for another. Each check failed before its fix.
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -68,10 +69,11 @@ TEST_F(CliMistakes, ANumberOptionThatIsNotFiniteIsRefusedAndNothingIsWritten) {
 TEST_F(CliMistakes, LevelsNearTheEndOfTheDoubleRangeAreComputedWithoutOverflow) {
   const Outcome r = run({"design", "--n", "1", "--m", "3", "--v-min", "-1e308", "--v-max", "1e308", "--operator",
                          "switch", "--out", "d.json"});
-  // The firmware works in float32, where these levels do not exist: refused, by its rule, naming the file.
+  // The firmware works in float32, where these levels do not exist: refused, by its rule, naming the option.
   EXPECT_NE(r.exit_code, 0) << r;
   EXPECT_FALSE(Contains(r.err, "got null")) << r;
-  EXPECT_TRUE(Contains(r.err, "d.json: the firmware image could not run this design")) << r;
+  EXPECT_TRUE(Contains(r.err, "the firmware image could not run this design: --v-min = -1e+308 is beyond the range "
+                              "of float32")) << r;
   EXPECT_TRUE(files_below(work_).empty()) << r;
 }
 
@@ -191,6 +193,44 @@ TEST_F(CliMistakes, HilNamesAMissingOrWrongFirmware) {
   EXPECT_EQ(text.exit_code, 1) << text;
   EXPECT_TRUE(Contains(text.err, "'text.elf' is not an ARM ELF image")) << text;
   EXPECT_FALSE(Contains(text.out + text.err, "qemu")) << text;
+  // An ARM ELF cut short: its one loaded segment (file bytes 4096..4351) lies past the end of the 84-byte file, then
+  // its program header table does. QEMU booted the first into a lockup; the second was untagged and waited out the
+  // time limit. Header fields at their System V ABI offsets, little-endian.
+  std::vector<unsigned char> elf(84, 0);
+  const auto put = [&](std::size_t at, std::uint32_t value, int bytes) {
+    for (int k = 0; k < bytes; ++k) elf[at + static_cast<std::size_t>(k)] = static_cast<unsigned char>(value >> (8 * k));
+  };
+  put(0, 0x464c457f, 4);  // \x7fELF
+  put(4, 1, 1);           // 32-bit
+  put(5, 1, 1);           // little-endian
+  put(6, 1, 1);
+  put(16, 2, 2);   // executable
+  put(18, 40, 2);  // EM_ARM
+  put(20, 1, 4);
+  put(28, 52, 4);  // e_phoff
+  put(40, 52, 2);  // e_ehsize
+  put(42, 32, 2);  // e_phentsize
+  put(44, 1, 2);   // e_phnum
+  put(52, 1, 4);        // PT_LOAD
+  put(56, 4096, 4);     // p_offset
+  put(68, 256, 4);      // p_filesz
+  std::ofstream(work_ / "cut.elf", std::ios::binary).write(reinterpret_cast<const char*>(elf.data()), 84);
+  const Outcome cut = run({"hil", "--scenario", "dis_paper", "--firmware", "cut.elf", "--timeout", "5"});
+  EXPECT_EQ(cut.exit_code, 1) << cut;
+  EXPECT_TRUE(Contains(cut.err, "'cut.elf' is damaged: its segment 0 ends at byte 4352, past the end of the file "
+                                "(84 bytes)")) << cut;
+  std::ofstream(work_ / "cut.elf", std::ios::binary).write(reinterpret_cast<const char*>(elf.data()), 60);
+  const Outcome headers = run({"hil", "--scenario", "dis_paper", "--firmware", "cut.elf", "--timeout", "5"});
+  EXPECT_EQ(headers.exit_code, 1) << headers;
+  EXPECT_TRUE(Contains(headers.err, "'cut.elf' is damaged: its program header table lies past the end")) << headers;
+  // qemu-command checks the image as hil does: it printed a command line for anything.
+  const Outcome missing = run({"qemu-command", "--kernel", "nonexist.elf"});
+  EXPECT_EQ(missing.exit_code, 1) << missing;
+  EXPECT_TRUE(Contains(missing.err, "qemu-command: firmware 'nonexist.elf' not found")) << missing;
+  EXPECT_TRUE(missing.out.empty()) << missing;
+  const Outcome damaged = run({"qemu-command", "--kernel", "cut.elf"});
+  EXPECT_EQ(damaged.exit_code, 1) << damaged;
+  EXPECT_TRUE(Contains(damaged.err, "qemu-command: firmware 'cut.elf' is damaged")) << damaged;
 }
 
 // What hil can check before the run it checks before it (the run takes seconds to minutes): the file of

@@ -341,6 +341,7 @@ int run_qemu_command(const QemuCommandArgs& args) {
   command.serials = args.serials;
   command.icount = args.icount;
   command.kernel = args.kernel;
+  check_firmware_image(command.kernel, command.machine, "qemu-command");  // as hil checks it: a line for an image QEMU cannot run is no help
   // One argument per line, for `mapfile -t` in scripts (paths with spaces stay one argument).
   for (const std::string& arg : qemu_command_line(command)) fmt::print("{}\n", arg);
   return 0;

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 namespace lashid::sim::detail {
 
 namespace {
@@ -87,6 +89,34 @@ std::optional<std::string> section_string(const std::string& path, const char* w
 }
 
 }  // namespace
+
+std::optional<std::string> elf_damage(const std::string& path) {
+  const std::vector<unsigned char> b = read_image(path);
+  if (!arm_elf_header(b)) return "not an ARM ELF image, or larger than 64 MiB";
+  // Program headers (e_phoff at 28, e_phentsize at 42, e_phnum at 44; p_type, p_offset and p_filesz at 0, 4 and 16):
+  // what QEMU loads. A segment whose bytes lie past the end of the file boots into a lockup.
+  constexpr std::size_t kProgramHeaderSize = 32;
+  constexpr std::uint32_t kPtLoad = 1;
+  const std::size_t phoff = le32(b, 28), phentsize = le16(b, 42), phnum = le16(b, 44);
+  if (phnum == 0) return "it has no program headers: nothing to load";
+  if (phentsize < kProgramHeaderSize || phoff + phnum * phentsize > b.size()) {
+    return "its program header table lies past the end of the file (cut short?)";
+  }
+  for (std::size_t i = 0; i < phnum; ++i) {
+    const std::size_t at = phoff + i * phentsize;
+    if (le32(b, at) != kPtLoad) continue;
+    if (static_cast<std::uint64_t>(le32(b, at + 4)) + le32(b, at + 16) > b.size()) {
+      return fmt::format("its segment {} ends at byte {}, past the end of the file ({} bytes): cut short?", i,
+                         static_cast<std::uint64_t>(le32(b, at + 4)) + le32(b, at + 16), b.size());
+    }
+  }
+  // The section table (e_shoff at 32; 0 when there is none) holds the machine and plant tags.
+  const std::size_t shoff = le32(b, 32), shentsize = le16(b, 46), shnum = le16(b, 48);
+  if (shoff != 0 && shoff + shnum * shentsize > b.size()) {
+    return "its section table lies past the end of the file (cut short?)";
+  }
+  return std::nullopt;
+}
 
 std::optional<std::string> elf_machine_tag(const std::string& path) { return section_string(path, kMachineSection); }
 

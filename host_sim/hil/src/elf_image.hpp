@@ -10,6 +10,11 @@ namespace lashid::sim::detail {
 /// lockup.
 bool is_arm_elf(const std::string& path);
 
+/// Why an ARM ELF image cannot be booted as it is (its program headers or a loaded segment, or its section table, lie
+/// past the end of the file: a copy cut short), or std::nullopt when it is whole. QEMU would load what is there and
+/// stop in a lockup, or boot an image whose tags cannot be read and wait on a UART until the time limit.
+std::optional<std::string> elf_damage(const std::string& path);
+
 /// The QEMU machine the image was built for: the NUL-terminated name in its section `.lashid.machine`
 /// (LASHID_CORTEX_M_MACHINE_TAG, lashid/hal/cortex_m.hpp). std::nullopt when the image has no such section (an image
 /// from elsewhere: it is run as it is) or its section table cannot be read.

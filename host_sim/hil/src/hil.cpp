@@ -41,17 +41,6 @@ const char* preset_for(const std::string& machine) {
   return nullptr;
 }
 
-// An image built for another machine faults or waits on a UART that is not there, until the time limit: refused
-// before QEMU starts, naming both machines.
-void check_machine(const HilOptions& options) {
-  const std::optional<std::string> built_for = detail::elf_machine_tag(options.firmware);
-  if (!built_for || *built_for == options.machine) return;
-  const char* preset = preset_for(options.machine);
-  throw std::runtime_error(fmt::format(
-      "hil: firmware '{}' is built for QEMU machine '{}', not '{}': run it with --machine {}{}", options.firmware,
-      *built_for, options.machine, *built_for,
-      preset != nullptr ? fmt::format(", or build the image for {} (preset {})", options.machine, preset) : ""));
-}
 
 // An image whose plant is its own waits for a design on its link while nothing plays its plant port, and an image
 // whose plant is played waits on a plant port nobody answers: both run into the time limit. Refused before QEMU starts.
@@ -72,6 +61,30 @@ void check_plant(const HilOptions& options) {
 
 }  // namespace
 
+void check_firmware_image(const std::string& firmware, const std::string& machine, std::string_view command) {
+  if (!std::filesystem::is_regular_file(firmware)) {
+    throw std::runtime_error(fmt::format("{}: firmware '{}' not found", command, firmware));
+  }
+  if (!detail::is_arm_elf(firmware)) {
+    // QEMU would boot any bytes and stop in a lockup with a register dump.
+    throw std::runtime_error(fmt::format("{}: firmware '{}' is not an ARM ELF image (a cross preset builds one: "
+                                         "build/cm4f-release/firmware/lashid_fw.elf)",
+                                         command, firmware));
+  }
+  if (const std::optional<std::string> damage = detail::elf_damage(firmware)) {
+    throw std::runtime_error(fmt::format("{}: firmware '{}' is damaged: {}", command, firmware, *damage));
+  }
+  // An image built for another machine faults or waits on a UART that is not there, until the time limit: refused
+  // before QEMU starts, naming both machines.
+  const std::optional<std::string> built_for = detail::elf_machine_tag(firmware);
+  if (!built_for || *built_for == machine) return;
+  const char* preset = preset_for(machine);
+  throw std::runtime_error(fmt::format(
+      "{}: firmware '{}' is built for QEMU machine '{}', not '{}': run it with --machine {}{}", command, firmware, *built_for,
+      machine, *built_for,
+      preset != nullptr ? fmt::format(", or build the image for {} (preset {})", machine, preset) : ""));
+}
+
 HilResult run_hil(const HilOptions& options) {
   const bool attach = !options.attach_link.empty() || !options.attach_plant.empty();
   if (options.physical_plant && !options.attach_plant.empty()) {
@@ -80,17 +93,8 @@ HilResult run_hil(const HilOptions& options) {
   if (attach && (options.attach_link.empty() || (options.attach_plant.empty() && !options.physical_plant))) {
     throw std::runtime_error("hil: attaching needs both sockets (link = UART0, plant = UART1)");
   }
-  if (!attach && !std::filesystem::is_regular_file(options.firmware)) {
-    throw std::runtime_error("hil: firmware '" + options.firmware + "' not found");
-  }
-  if (!attach && !detail::is_arm_elf(options.firmware)) {
-    // QEMU would boot any bytes and stop in a lockup with a register dump.
-    throw std::runtime_error("hil: firmware '" + options.firmware +
-                             "' is not an ARM ELF image (a cross preset builds one: "
-                             "build/cm4f-release/firmware/lashid_fw.elf)");
-  }
   if (!attach) {
-    check_machine(options);
+    check_firmware_image(options.firmware, options.machine, "hil");
     check_plant(options);
   }
   // The design sent (options.design or the scenario's), the plant played (the scenario's or a plant file's) and

@@ -115,6 +115,11 @@ class HilInterrupted : public std::runtime_error {
   int signal_;
 };
 
+/// What can be known of an image before QEMU boots it: it exists, is an ARM ELF, is whole (not cut short), and was
+/// built for `machine` (its section .lashid.machine, when it has one). Throws std::runtime_error naming what is wrong,
+/// after `command` (the subcommand that asks: "hil", "qemu-command").
+void check_firmware_image(const std::string& firmware, const std::string& machine, std::string_view command);
+
 /// Runs QEMU with the firmware, sends the design, and plays the scenario's plant (or options.plant_file's),
 /// recording the exchanged samples to options.record if set (also when the run stops early: the recording is then
 /// marked partial). Throws std::runtime_error when QEMU cannot be started, a socket fails, or the time limit is
