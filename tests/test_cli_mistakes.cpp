@@ -2,6 +2,7 @@
 // clear error naming the option or file, a non-zero exit and no file written, or, where the command runs, a
 // result that cannot be mistaken for another. Each check failed before its fix.
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -223,6 +224,18 @@ TEST_F(CliMistakes, HilNamesAMissingOrWrongFirmware) {
   const Outcome headers = run({"hil", "--scenario", "dis_paper", "--firmware", "cut.elf", "--timeout", "5"});
   EXPECT_EQ(headers.exit_code, 1) << headers;
   EXPECT_TRUE(Contains(headers.err, "'cut.elf' is damaged: its program header table lies past the end")) << headers;
+  // --attach to what can never be a socket is said at once; one that is not there is waited for no longer than
+  // --timeout (it waited 10 s whatever the limit, then said only "connection refused").
+  const Outcome file = run({"hil", "--attach", "text.elf", "b.sock", "--scenario", "dis_paper", "--timeout", "60"});
+  EXPECT_EQ(file.exit_code, 1) << file;
+  EXPECT_TRUE(Contains(file.err, "cannot attach to text.elf: it is a regular file, not a Unix socket or a serial "
+                                 "port")) << file;
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome absent = run({"hil", "--attach", "no.sock", "b.sock", "--scenario", "dis_paper", "--timeout", "1"});
+  EXPECT_EQ(absent.exit_code, 1) << absent;
+  EXPECT_TRUE(Contains(absent.err, "cannot connect to no.sock")) << absent;
+  // Not a speed test: 10 s was the fixed wait; a bound well below it, whatever the machine.
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(8));
   // qemu-command checks the image as hil does: it printed a command line for anything.
   const Outcome missing = run({"qemu-command", "--kernel", "nonexist.elf"});
   EXPECT_EQ(missing.exit_code, 1) << missing;

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -126,8 +127,10 @@ HilResult run_hil(const HilOptions& options) {
   };
   try {
     if (attach) {
-      fds.link = detail::connect_with_timeout(options.attach_link, 10000);
-      if (!options.physical_plant) fds.plant = detail::connect_with_timeout(options.attach_plant, 10000);
+      // A socket that is not there yet may be a QEMU still starting: waited for, up to 10 s or --timeout.
+      const int wait_ms = static_cast<int>(std::clamp(options.timeout_seconds * 1000.0, 1.0, 10000.0));
+      fds.link = detail::connect_with_timeout(options.attach_link, wait_ms);
+      if (!options.physical_plant) fds.plant = detail::connect_with_timeout(options.attach_plant, wait_ms);
     } else {
       detail::start_qemu(options, dir, qemu, fds);
     }

@@ -193,7 +193,15 @@ int open_serial_port(const std::string& path) {
 
 int connect_with_timeout(const std::string& path, int timeout_ms) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode)) return open_serial_port(path);
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISCHR(st.st_mode)) return open_serial_port(path);
+    // Something that can never be connected to is said at once, not after the wait for a socket to appear.
+    if (!S_ISSOCK(st.st_mode)) {
+      const char* what = S_ISDIR(st.st_mode) ? "directory" : S_ISREG(st.st_mode) ? "regular file" : "special file";
+      throw std::runtime_error(
+          fmt::format("hil: cannot attach to {}: it is a {}, not a Unix socket or a serial port", path, what));
+    }
+  }
   const sockaddr_un addr = socket_address(path);
   for (int waited = 0;; waited += 50) {
     const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
