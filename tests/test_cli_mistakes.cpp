@@ -101,6 +101,28 @@ TEST_F(CliMistakes, OperatorFitRefusesATestFileThatIsAlsoTrainedOn) {
   EXPECT_TRUE(Contains(plot.err, "o.png: cannot plot: '/nonexistent/gnuplot' not found")) << plot;
   EXPECT_FALSE(Contains(plot.out, "Nominal operators")) << plot;
   EXPECT_TRUE(files_below(work_).empty()) << plot;
+  // A test file at half the training files' rate (every other row of a 1024 per s file): the filter after the
+  // operator and the Hz figures would be wrong for it; refused before any fit, naming both files.
+  std::string half, both;
+  {
+    std::istringstream in(slurp(other));
+    std::size_t row = 0;
+    for (std::string line; std::getline(in, line); ++row) {
+      if (row == 0 || row % 2 == 1) half += line + "\n";
+      both += row == 0 ? "t_s,x_in,F_kip,v_in_per_s,F_act1_lb,x_in\n" : line + "\n";
+    }
+  }
+  std::ofstream(work_ / "half.csv") << half;
+  const Outcome rate = run({"operator-fit", "--train", damper, "--test", (work_ / "half.csv").string()});
+  EXPECT_EQ(rate.exit_code, 1) << rate;
+  EXPECT_TRUE(Contains(rate.err, "half.csv: sampled at 512 per s, the first training file")) << rate;
+  EXPECT_TRUE(Contains(rate.err, "at 1024: the filter after the operator needs one rate for every file")) << rate;
+  EXPECT_FALSE(Contains(rate.out, "Nominal operators")) << rate;
+  // Two columns named x_in (the last one replaced the F_act2 column): neither is guessed.
+  std::ofstream(work_ / "twice.csv") << both;
+  const Outcome twice = run({"operator-fit", "--train", damper, "--test", (work_ / "twice.csv").string()});
+  EXPECT_EQ(twice.exit_code, 1) << twice;
+  EXPECT_TRUE(Contains(twice.err, "twice.csv:1: column 'x_in' appears twice in the header (fields 2 and 6)")) << twice;
 }
 
 // "both" asks for both schemes: a recording without the AIS phases is an error, as with --scheme ais; "auto" (the

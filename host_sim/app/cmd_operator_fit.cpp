@@ -72,13 +72,28 @@ json run_identification(const HysteresisOperator& actuator, double v_min, double
   return out;
 }
 
-// Sampling rate of the (possibly decimated) training records: samples per second over the first file's span.
-double sampling_rate(const std::vector<DamperRecord>& train) {
-  const DamperRecord& r = train.front();
-  const double rate = static_cast<double>(r.t.size() - 1) / (r.t.back() - r.t.front());
-  if (!std::isfinite(rate) || !(rate > 0)) {
-    throw DataError(r.source, fmt::format("{} samples in {:g} s: the sampling rate ({:g} per s) is not finite",
-                                          r.t.size(), r.t.back() - r.t.front(), rate));
+// Sampling rate of the (possibly decimated) records: samples per second over the first training file's span. The
+// discrete filter after the operator and the frequencies reported hold at one rate: every file must have it (within
+// 1 %), or a test file at half the rate would be filtered at the wrong frequencies without a word.
+double sampling_rate(const std::vector<DamperRecord>& train, const std::vector<DamperRecord>& test) {
+  const auto rate_of = [](const DamperRecord& r) {
+    const double rate = static_cast<double>(r.t.size() - 1) / (r.t.back() - r.t.front());
+    if (!std::isfinite(rate) || !(rate > 0)) {
+      throw DataError(r.source, fmt::format("{} samples in {:g} s: the sampling rate ({:g} per s) is not finite",
+                                            r.t.size(), r.t.back() - r.t.front(), rate));
+    }
+    return rate;
+  };
+  const double rate = rate_of(train.front());
+  for (const std::vector<DamperRecord>* files : {&train, &test}) {
+    for (const DamperRecord& r : *files) {
+      const double own = rate_of(r);
+      if (std::fabs(own - rate) > 0.01 * rate) {
+        throw DataError(r.source, fmt::format("sampled at {:.4g} per s, the first training file ({}) at {:.4g}: the "
+                                              "filter after the operator needs one rate for every file",
+                                              own, train.front().source, rate));
+      }
+    }
   }
   return rate;
 }
@@ -132,6 +147,7 @@ int run_operator_fit(const OperatorFitArgs& args) {
   check_held_out(args.train, args.test);
   const std::vector<DamperRecord> train = load(args.train, args.decimate);
   const std::vector<DamperRecord> test = load(args.test, args.decimate);
+  const double rate = sampling_rate(train, test);  // before any fit: files at another rate are refused first
   OperatorFitOptions fit_options;
   fit_options.points = args.points;
   fit_options.deadband = args.deadband;
@@ -173,7 +189,6 @@ int run_operator_fit(const OperatorFitArgs& args) {
   }
 
   const OutputDynamicsFit dynamics = fit_dynamics(train, *extended_op, tensions);
-  const double rate = sampling_rate(train);
   const std::vector<FilterPole> poles = filter_poles(dynamics.filter, rate);
   print_dynamics(dynamics, poles);
 

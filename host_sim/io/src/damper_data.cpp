@@ -70,7 +70,14 @@ DamperRecord parse_damper_csv(std::string_view text, std::string_view source_nam
       for (std::size_t k = 0; k < wanted.size(); ++k) {
         std::optional<std::size_t> at;
         for (std::size_t i = 0; i < fields.size(); ++i) {
-          if (fields[i] == *wanted[k]) at = i;
+          if (fields[i] != *wanted[k]) continue;
+          // Two columns of one name: which one holds the data is not known; neither is guessed.
+          if (at) {
+            throw DataError(source_name, line_number,
+                            fmt::format("column '{}' appears twice in the header (fields {} and {})", *wanted[k],
+                                        *at + 1, i + 1));
+          }
+          at = i;
         }
         if (!at) {
           throw DataError(source_name, line_number,
