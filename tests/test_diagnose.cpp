@@ -57,6 +57,27 @@ TEST(JointModel, RecoversTheGeneratedPlant) {
   }
 }
 
+// A file may hold its phases in any order (data-format.md): with val before step_a, the rows just after val would
+// regress on val's outputs. No row of the fit may have a val sample among its n lags.
+TEST(JointModel, NoRowRegressesOnValWhereverValLies) {
+  const HiddenEffectCase c = generate_hidden_effect_case(Cause::kNone, 5103);
+  Recording reordered;
+  for (const Phase p : {Phase::kStepD, Phase::kDis, Phase::kVal, Phase::kStepA, Phase::kAis}) {
+    for (const Sample& x : c.recording.phase(p)) reordered.append(p, x.v, x.y);
+  }
+  const FlatRecording data = flatten(reordered);
+  ModelStructure s;
+  s.op = c.config.op;
+  const JointModel m = fit_joint_model(c.config, data, s);
+  ASSERT_TRUE(m.ok) << m.failure;
+  std::size_t after_val = 0;
+  for (const std::size_t t : m.residual_t) {
+    for (int i = 0; i <= m.n; ++i) EXPECT_TRUE(data.is_identification(t - static_cast<std::size_t>(i))) << t << " " << i;
+    if (data.phase[t] == Phase::kStepA && !data.is_identification(t - static_cast<std::size_t>(m.n) - 1)) ++after_val;
+  }
+  EXPECT_EQ(after_val, 1U) << "the first row after val is the n-th sample of step_a";
+}
+
 TEST(HiddenEffect, CurvedBordersKeepThePlantAndChangeOnlyTheBorders) {
   const std::array<Cause, 1> drift{Cause::kSensorDrift};
   HiddenEffectOptions curved;

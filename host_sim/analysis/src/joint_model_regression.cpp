@@ -11,8 +11,12 @@ RegressionShape regression_shape(int n, int P, const FlatRecording& data, const 
   g.n = n;
   g.P = P;
   g.cols = n + n * P + 1 + (structure.drift ? 1 : 0);
-  for (std::size_t t = static_cast<std::size_t>(n); t < data.size(); ++t) {
-    if (data.is_identification(t)) g.rows.push_back(t);
+  // A row and its n output lags all from the identification phases: val is never fitted to, also where a file puts
+  // it before an identification phase (docs/data-format.md allows any order).
+  std::size_t identification_run = 0;  // identification samples ending at t - 1
+  for (std::size_t t = 0; t < data.size(); ++t) {
+    if (data.is_identification(t) && identification_run >= static_cast<std::size_t>(n)) g.rows.push_back(t);
+    identification_run = data.is_identification(t) ? identification_run + 1 : 0;
   }
   return g;
 }
