@@ -314,6 +314,11 @@ TEST_F(CliMistakes, IdentifyLeavesOutWhatLiesOutsideTheSensorRangeAndSaysSo) {
   ASSERT_EQ(plain.exit_code, 0) << plain;
   EXPECT_FALSE(Contains(plain.err, "sensor_range")) << plain;
   EXPECT_NE(r.out, plain.out) << "the range changed nothing: the test tests nothing";
+  // diagnose's joint model cannot leave them out: it says so.
+  const Outcome d = run({"diagnose", "--config", "ranged.json", "--data", "rec.csv"});
+  ASSERT_EQ(d.exit_code, 0) << d;
+  EXPECT_TRUE(Contains(d.err, "lie outside the config's sensor_range [-1000, 215]: the DIS/AIS estimates leave them "
+                              "out, the joint model of the diagnosis fits them")) << d;
 }
 
 // The generator's rules on --cause are said in terms of the option.
