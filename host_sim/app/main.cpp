@@ -122,8 +122,8 @@ CLI::App* add_hil(CLI::App& app, HilArgs& args) {
                                  "levels, lengths, validation phase)")
                      ->check(CLI::ExistingFile);
   cmd->add_flag("--unchecked-design", args.unchecked_design,
-                "Send the config's design without checking it on the host first: the firmware's own check answers "
-                "(for testing it; a refused design runs nothing)")
+                "Send the config's design without the host's check of its rules in float32: the firmware's own check "
+                "answers (for testing it; a refused design runs nothing). The config file's own rules still apply")
       ->needs(config);
   auto* physical = cmd->add_flag("--physical-plant", args.physical_plant,
                                  "The board drives its own actuator and reads its own sensor (an analog image, e.g. "
