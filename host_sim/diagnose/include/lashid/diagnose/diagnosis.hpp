@@ -98,8 +98,9 @@ struct Diagnosis {
   std::vector<double> val_v, val_measured, val_nominal, val_extended;
 };
 
-/// Thresholds of the decision (docs/diagnose.md explains how they were chosen, on seeds the tests and the reported
-/// tables do not use).
+/// Thresholds of the decision (docs/diagnose.md explains how they were chosen: on the tuning seeds 1000-1239, with
+/// one exception, output_error_in_checks below, switched off after it lost pairs on the test seeds 9700-9799, which
+/// are therefore not counted as held out in the totals of docs/diagnose.md).
 struct DiagnosisOptions {
   double structural_p = 1e-6;      ///< a structural extension must beat the current model at this level
   double white_p = 1e-4;           ///< residuals count as white above this Ljung-Box p-value
