@@ -64,10 +64,20 @@ void print_estimate(const fw::EstimateRecord& e, const ExperimentConfig& config)
   }
 }
 
+// As the firmware reported it: a failed scheme's values are NaN on the link, null here.
 nlohmann::json estimate_json(const fw::EstimateRecord& e) {
-  std::vector<float> a(e.a.begin(), e.a.begin() + e.n), b(e.b.begin(), e.b.begin() + e.n);
-  std::vector<float> F(e.F.begin(), e.F.begin() + e.m);
-  return {{"a", a}, {"b", b}, {"F", F}, {"ybar0", e.ybar0}, {"status", e.status}};
+  const auto first = [](const auto& values, std::size_t count) {
+    return std::vector<float>(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(count));
+  };
+  return {{"a", first(e.a, e.n)},
+          {"b", first(e.b, e.n)},
+          {"F", first(e.F, e.m)},
+          {"se_a", first(e.se_a, e.n)},
+          {"se_b", first(e.se_b, e.n)},
+          {"ybar0", e.ybar0},
+          {"noise_variance", e.noise_variance},
+          {"status", e.status},
+          {"status_name", lashid::est::to_string(static_cast<lashid::est::Status>(e.status))}};
 }
 
 // The --json of a run that ended in an error: no estimates, the verdict failed, and why.
@@ -237,6 +247,15 @@ int run_checked_hil(const HilArgs& args) {
     }
   }
   nlohmann::json out;
+  if (r.cross_check) {
+    const auto& c = *r.cross_check;
+    const std::optional<std::size_t> k = verdict.dis ? verdict.dis : verdict.ais;
+    out["cross_check"] = c.max_z < 0 ? nlohmann::json(nullptr)
+                                     : nlohmann::json{{"max_z", c.max_z},
+                                                      {"threshold", c.threshold},
+                                                      {"disagree", c.disagree != 0},
+                                                      {"worst", cross_check_parameter(c.worst, k ? r.estimates[*k].n : 0)}};
+  }
   if (r.cost) {
     const auto& c = *r.cost;
     const double per_update = c.updates ? static_cast<double>(c.update_cycles) / c.updates : 0.0;
@@ -262,7 +281,10 @@ int run_checked_hil(const HilArgs& args) {
   }
   for (const auto& e : r.estimates) out[e.scheme == est::Scheme::kDescending ? "dis" : "ais"] = estimate_json(e);
   out["done"] = r.done;
+  out["done_name"] = r.done < 0 ? "no report" : run_status_name(r.done);
   out["design_status"] = r.design_status;
+  out["design_status_name"] =
+      r.design_status < 0 ? "no answer" : fw::to_string(static_cast<fw::DesignStatus>(r.design_status));
   out["qemu_exit"] = r.qemu_exit;
 
   if (verdict.host) {
