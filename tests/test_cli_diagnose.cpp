@@ -71,6 +71,10 @@ TEST_F(CliDiagnose, NamesTwoHiddenCausesAndTheGainOfEach) {
   ASSERT_EQ(run({"diagnose", "--config", cfg, "--data", csv, "--json", out}).exit_code, 0);
   const json lag = json::parse(slurp(out));
   ASSERT_TRUE(lag.at("parameters").contains("lambda")) << lag.at("parameters");
+  const json& steps = lag.at("gain_per_cause");
+  const auto lag_step = std::find_if(steps.begin(), steps.end(), [](const json& s) { return s.at("cause") == "input_lag"; });
+  ASSERT_NE(lag_step, steps.end()) << steps;
+  ASSERT_TRUE(lag_step->at("parameters").contains("lambda")) << *lag_step;
   expect_steps_carry_the_final_parameters(lag);
 
   const Outcome none = run({"hidden-effect", "--cause", "none", "--borders", "curved", "--seed", "11", "--out", csv,

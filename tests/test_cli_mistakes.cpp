@@ -2,7 +2,6 @@
 // clear error naming the option or file, a non-zero exit and no file written, or, where the command runs, a
 // result that cannot be mistaken for another. Each check failed before its fix.
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -252,12 +251,10 @@ TEST_F(CliMistakes, HilNamesAMissingOrWrongFirmware) {
   EXPECT_EQ(file.exit_code, 1) << file;
   EXPECT_TRUE(Contains(file.err, "cannot attach to text.elf: it is a regular file, not a Unix socket or a serial "
                                  "port")) << file;
-  const auto start = std::chrono::steady_clock::now();
   const Outcome absent = run({"hil", "--attach", "no.sock", "b.sock", "--scenario", "dis_paper", "--timeout", "1"});
   EXPECT_EQ(absent.exit_code, 1) << absent;
-  EXPECT_TRUE(Contains(absent.err, "cannot connect to no.sock")) << absent;
-  // Not a speed test: 10 s was the fixed wait; a bound well below it, whatever the machine.
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(8));
+  EXPECT_TRUE(Contains(absent.err, "cannot connect to no.sock: No such file or directory (waited 1 s for it)"))
+      << absent;
   // qemu-command checks the image as hil does: it printed a command line for anything.
   const Outcome missing = run({"qemu-command", "--kernel", "nonexist.elf"});
   EXPECT_EQ(missing.exit_code, 1) << missing;

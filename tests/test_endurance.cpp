@@ -82,8 +82,11 @@ TEST(Endurance, Float32TracksTheDoubleReferenceOverTenMillionSamples) {
     const Eigen::VectorXd theta_f = ef.ls.theta.cast<double>().head(ed.ls.theta.size());
     ASSERT_TRUE(theta_f.allFinite());
     const double relative = (theta_f - ed.ls.theta).norm() / ed.ls.theta.norm();
+    ASSERT_TRUE(std::isfinite(relative)) << "after " << t + 1;
     double in_se = 0;
     for (int i = 0; i < ed.ls.theta.size(); ++i) {
+      // std::max drops a NaN: a std error that is not finite and positive would pass unseen.
+      ASSERT_TRUE(std::isfinite(ef.ls.std_error(i)) && ef.ls.std_error(i) > 0.0F) << i << " after " << t + 1;
       in_se = std::max(in_se, std::abs(theta_f(i) - ed.ls.theta(i)) / static_cast<double>(ef.ls.std_error(i)));
     }
     std::printf("%10lld %12.6f %12.6f %14.3g %12.3g\n", static_cast<long long>(t + 1), static_cast<double>(ef.b(0)),

@@ -1,6 +1,18 @@
 // The estimation against the paper and closed forms: exact recovery on noise-free data (3.20), grouped RLS == batch
 // LS (3.21) in double and float32, the cross-check, bad input as a status, heap-freedom. The building blocks (schedule,
 // validation, Lagrange basis, eigenvalues, step mean): test_estimator_design.cpp.
+// Eigen's malloc guard reports through eigen_assert, which NDEBUG turns off, and every build CI runs defines NDEBUG
+// (Release, and the sanitizer presets): defined here, before any Eigen header, so that the guard holds in every
+// build; a negative control below shows that it does.
+#include <cstdio>
+#include <cstdlib>
+#define eigen_assert(x)                                       \
+  do {                                                        \
+    if (!(x)) {                                               \
+      std::fputs("eigen_assert failed: " #x "\n", stderr);   \
+      std::abort();                                           \
+    }                                                         \
+  } while (false)
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
@@ -29,6 +41,18 @@ struct NoMalloc {
   NoMalloc() { Eigen::internal::set_is_malloc_allowed(false); }
   ~NoMalloc() { Eigen::internal::set_is_malloc_allowed(true); }
 };
+
+// The negative control: a dynamic Eigen matrix under the guard must abort, in this build (Release or not).
+TEST(NoMallocGuard, StopsAHeapAllocationInEveryBuild) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_DEATH(
+      {
+        const NoMalloc guard;
+        Eigen::MatrixXd m(3, 3);
+        m.setZero();
+      },
+      "heap allocation is forbidden");
+}
 
 struct Experiment {
   ExperimentDesign<double, 6> design;

@@ -418,6 +418,8 @@ TEST(FirmwareOnHostBoard, AFailedSchemeReportsItsStatusAndNoValues) {
   EXPECT_TRUE(std::isfinite(dis.a[0]) && std::isfinite(dis.F[0]));
   ASSERT_EQ(ais.scheme, est::Scheme::kAscending);
   EXPECT_EQ(static_cast<est::Status>(ais.status), est::Status::kStepMeanMissing);
+  ASSERT_EQ(ais.n, 2U);  // ais_paper's n and m: the loops below check every value
+  ASSERT_EQ(ais.m, 6U);
   for (std::size_t i = 0; i < ais.n; ++i) {
     EXPECT_TRUE(std::isnan(ais.a[i]) && std::isnan(ais.b[i]) && std::isnan(ais.se_a[i]) && std::isnan(ais.se_b[i]))
         << i;

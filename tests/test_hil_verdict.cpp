@@ -101,6 +101,11 @@ TEST(HilVerdict, DifferentFromTheHostBuild) {
   host = good_run();
   host.estimates[0].a[0] = std::nanf("");  // a NaN is a difference, not skipped
   EXPECT_TRUE(sim::judge(r, &host, {}).has(HilFailure::kDifferentFromHost));
+  // Asked for and not made: a failure, so that the CTests of --compare-host cannot pass without the comparison.
+  sim::JudgeOptions asked;
+  asked.compare_host = true;
+  EXPECT_TRUE(sim::judge(r, nullptr, asked).has(HilFailure::kDifferentFromHost));
+  EXPECT_TRUE(sim::judge(r, &r, asked).ok());
 }
 
 TEST(HilVerdict, EveryDamagedFrameMustBeReRequested) {

@@ -135,6 +135,7 @@ int run_checked_hil(const HilArgs& args) {
   rules.tolerance = args.tolerance;
   rules.plant_played = !args.physical_plant;
   rules.streamed = args.physical_plant && !args.record.empty();
+  rules.compare_host = args.compare_host;
   HilVerdict verdict = judge(r, host ? &*host : nullptr, rules);
   // --record: the recording must be what the firmware estimated from (identify --float on it, relative 1e-3), with
   // the samples the firmware set aside left out as it did (without_set_aside). A streamed run must have named every

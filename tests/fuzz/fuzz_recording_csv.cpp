@@ -28,9 +28,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   if (rec.size() == 0) std::abort();  // the reader promises at least one data row
-  // One file per fuzzing process, rewritten for every input.
-  static const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("lashid-fuzz-recording-" + std::to_string(::getpid()) + ".csv");
+  // One file per fuzzing process, rewritten for every input and removed when the process ends.
+  struct TemporaryFile {
+    std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("lashid-fuzz-recording-" + std::to_string(::getpid()) + ".csv");
+    ~TemporaryFile() {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+  };
+  static const TemporaryFile file;
+  const std::filesystem::path& path = file.path;
   lashid::sim::write_recording_csv(path, rec, {"round trip"});
   const lashid::sim::Recording back = lashid::sim::read_recording_csv(path);
   if (back.order() != rec.order()) std::abort();

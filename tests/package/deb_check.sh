@@ -54,9 +54,12 @@ for f in usr/bin/lashid usr/include/lashid/estimator.hpp usr/include/lashid/esti
   grep -qxF "${f}" "${work}/contents.txt" || fail "${f} is not in the package"
 done
 # Everything under /usr, none of it under /usr/local; headers only of lashid (nothing of a dependency's).
-if grep -v '^usr/' "${work}/contents.txt" | grep -q .; then fail "paths outside usr/: $(grep -v '^usr/' "${work}/contents.txt")"; fi
+# (grep -c, not a pipe into grep -q: under pipefail the first grep's SIGPIPE would turn a finding into a pass)
+if [ "$(grep -cv '^usr/' "${work}/contents.txt" || true)" != 0 ]; then
+  fail "paths outside usr/: $(grep -v '^usr/' "${work}/contents.txt")"
+fi
 if grep -q '^usr/local/' "${work}/contents.txt"; then fail "paths under usr/local/"; fi
-if grep '^usr/include/.' "${work}/contents.txt" | grep -vq '^usr/include/lashid/'; then
+if [ "$(grep '^usr/include/.' "${work}/contents.txt" | grep -cv '^usr/include/lashid/' || true)" != 0 ]; then
   fail "headers outside usr/include/lashid/: $(grep '^usr/include/.' "${work}/contents.txt" | grep -v '^usr/include/lashid/')"
 fi
 

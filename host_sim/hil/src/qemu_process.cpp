@@ -207,8 +207,12 @@ int connect_with_timeout(const std::string& path, int timeout_ms) {
     const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0) fail_errno("socket");
     if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) == 0) return fd;
+    const int why = errno;
     ::close(fd);
-    if (waited >= timeout_ms) fail_errno("cannot connect to " + path);
+    if (waited >= timeout_ms) {
+      throw std::runtime_error(fmt::format("hil: cannot connect to {}: {} (waited {:.2g} s for it)", path,
+                                           std::strerror(why), waited / 1000.0));
+    }
     ::usleep(50'000);
     throw_if_stopped();
   }

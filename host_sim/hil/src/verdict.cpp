@@ -107,6 +107,7 @@ HilVerdict judge(const HilResult& run, const HilResult* host, const JudgeOptions
     if (options.plant_played && run.cost->samples != run.samples) fail(HilFailure::kPlantNotPlayed);
     if (options.streamed && run.samples < run.cost->samples) fail(HilFailure::kRecordingIncomplete);
   }
+  if (host == nullptr && options.compare_host) fail(HilFailure::kDifferentFromHost);  // asked for, not made
   if (host != nullptr) {
     v.host = compare(run, v, *host, options.tolerance);
     if (!v.host->equal) fail(HilFailure::kDifferentFromHost);

@@ -94,6 +94,8 @@ struct JudgeOptions {
   bool plant_played = true;
   /// --physical-plant --record: every sample the firmware counts must have been streamed to the host.
   bool streamed = false;
+  /// --compare-host: a comparison was asked for, so a run judged without one (no host run given) fails.
+  bool compare_host = false;
   double tolerance = 1e-3;  ///< relative tolerance of the host comparison
 };
 
