@@ -318,6 +318,35 @@ TEST_F(CliMistakes, IdentifyLeavesOutWhatLiesOutsideTheSensorRangeAndSaysSo) {
                               "out, the joint model of the diagnosis fits them")) << d;
 }
 
+// CLI11 says what is missing before the word it did not know: a misspelt command was "A subcommand is required"
+// and a misspelt required option "--config is required". The mistyped word is named, with the closest known name.
+TEST_F(CliMistakes, AMisspeltCommandOrOptionIsNamedWithTheClosestKnownName) {
+  const Outcome command = run({"idntify"});
+  EXPECT_EQ(command.exit_code, 109) << command;
+  EXPECT_TRUE(Contains(command.err, "'idntify' is not a command (did you mean 'identify'?); the commands: ")) << command;
+  std::ofstream(work_ / "rec.csv") << "";
+  const Outcome option = run({"identify", "--confg", "cfg.json", "--data", (work_ / "rec.csv").string()});
+  EXPECT_EQ(option.exit_code, 109) << option;
+  EXPECT_TRUE(Contains(option.err, "identify: unknown option --confg (did you mean --config?)")) << option;
+  const Outcome missing = run({"identify", "--data", (work_ / "rec.csv").string()});
+  EXPECT_EQ(missing.exit_code, 106) << missing;  // a required option left out is still said so
+  EXPECT_TRUE(Contains(missing.err, "--config is required")) << missing;
+}
+
+// CLI11 clamps an unsigned number beyond 2^64 - 1 to 2^64 - 1 without a word: the recording was that seed's. 2^64 - 1
+// itself is a seed; 2^64 is not, and a sweep must not wrap past 2^64 - 1 to seed 0.
+TEST_F(CliMistakes, ASeedBeyondTwoToTheSixtyFourIsRefusedInsteadOfClamped) {
+  const Outcome big = run({"simulate", "--scenario", "dis_paper", "--seed", "18446744073709551616", "--out", "rec.csv"});
+  EXPECT_EQ(big.exit_code, 105) << big;  // CLI11's ValidationError, README's 100+ range
+  EXPECT_TRUE(Contains(big.err, "--seed: must be at most 18446744073709551615")) << big;
+  EXPECT_TRUE(files_below(work_).empty());
+  const Outcome sweep = run({"diagnose-sweep", "--first-seed", "18446744073709551615", "--seeds", "2"});
+  EXPECT_EQ(sweep.exit_code, 105) << sweep;
+  EXPECT_TRUE(Contains(sweep.err, "--first-seed: 18446744073709551615 + --seeds 2 passes 2^64 - 1")) << sweep;
+  const Outcome max = run({"simulate", "--scenario", "dis_paper", "--seed", "18446744073709551615", "--out", "rec.csv"});
+  EXPECT_EQ(max.exit_code, 0) << max;
+}
+
 // The generator's rules on --cause are said in terms of the option.
 TEST_F(CliMistakes, HiddenEffectNamesTheCauseListThatIsWrong) {
   const Outcome repeated = run({"hidden-effect", "--cause", "dead_time+dead_time", "--out", "r.csv", "--config-out",
