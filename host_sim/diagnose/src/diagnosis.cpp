@@ -1,6 +1,7 @@
 #include "lashid/diagnose/diagnosis.hpp"
 
 #include <algorithm>
+#include <span>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -43,59 +44,46 @@ void check_diagnosable(const ExperimentConfig& config, const Recording& recordin
   }
 }
 
-// The parameters of every found cause, as the final (combined) model has them.
-CauseParameters combined_parameters(const Diagnosis& d) {
+// Every cause's parameters as `model` has them, found or not.
+CauseParameters model_parameters(const JointModel& model) {
   CauseParameters p;
-  for (const AddedCause& a : d.added) {
-    switch (a.cause) {
+  p.lambda = model.structure.input_lag;
+  p.delay = model.structure.delay;
+  p.drift_total = model.drift_total();
+  p.instrumental_variables = model.structure.instrumental;
+  p.output_error = model.structure.instrumental && model.structure.output_error;
+  p.op = model.structure.op;
+  return p;
+}
+
+// `all`'s members of the given causes. The JSON's "parameters" are those of every found cause; each step of
+// "gain_per_cause" has its own cause's, also as the final model has them: the selection refits after a step was
+// taken (lambda searched again with the causes added after it, a drift refitted beside a lag or a dropped cause,
+// colored_noise's estimator chosen last), and the steps decompose the final model's gain (their last fit_after is
+// the extended fit), so their parameters must be that model's, not the ones a cause had when added.
+CauseParameters parameters_of(const CauseParameters& all, std::span<const Cause> causes) {
+  CauseParameters p;
+  for (const Cause cause : causes) {
+    switch (cause) {
       case Cause::kInputLag:
-        p.lambda = d.extended.structure.input_lag;
+        p.lambda = all.lambda;
         break;
       case Cause::kDeadTime:
-        p.delay = d.extended.structure.delay;
+        p.delay = all.delay;
         break;
       case Cause::kSensorDrift:
-        p.drift_total = d.extended.drift_total();
+        p.drift_total = all.drift_total;
         break;
       case Cause::kColoredNoise:
-        p.instrumental_variables = d.extended.structure.instrumental;
-        p.output_error = d.extended.structure.instrumental && d.extended.structure.output_error;
+        p.instrumental_variables = all.instrumental_variables;
+        p.output_error = all.output_error;
         break;
       case Cause::kOperatorType:
-        p.op = d.extended.structure.op;
+        p.op = all.op;
         break;
       case Cause::kNone:
         break;
     }
-  }
-  return p;
-}
-
-// `all`'s members of one cause: a step's parameters are the final model's for its cause. The selection refits after
-// a step was taken (lambda searched again with the causes added after it, a drift refitted beside a lag or a
-// dropped cause, colored_noise's estimator chosen last), and the steps decompose the final model's gain: their last
-// fit_after is the extended fit, so their parameters must be that model's, not the ones a cause had when added.
-CauseParameters parameters_of(const CauseParameters& all, Cause cause) {
-  CauseParameters p;
-  switch (cause) {
-    case Cause::kInputLag:
-      p.lambda = all.lambda;
-      break;
-    case Cause::kDeadTime:
-      p.delay = all.delay;
-      break;
-    case Cause::kSensorDrift:
-      p.drift_total = all.drift_total;
-      break;
-    case Cause::kColoredNoise:
-      p.instrumental_variables = all.instrumental_variables;
-      p.output_error = all.output_error;
-      break;
-    case Cause::kOperatorType:
-      p.op = all.op;
-      break;
-    case Cause::kNone:
-      break;
   }
   return p;
 }
@@ -142,8 +130,9 @@ Diagnosis diagnose(const ExperimentConfig& config, const Recording& recording, s
   for (const AddedCause& a : d.added) d.causes.push_back(a.cause);
   if (d.causes.empty()) d.causes.push_back(Cause::kNone);
   d.cause = d.causes.front();
-  d.parameters = combined_parameters(d);
-  for (AddedCause& a : d.added) a.parameters = parameters_of(d.parameters, a.cause);
+  const CauseParameters final_model = model_parameters(d.extended);
+  d.parameters = parameters_of(final_model, d.causes);
+  for (AddedCause& a : d.added) a.parameters = parameters_of(final_model, std::span(&a.cause, 1));
   d.val_v.assign(data.v.begin() + static_cast<std::ptrdiff_t>(d.val_begin),
                  data.v.begin() + static_cast<std::ptrdiff_t>(d.val_end));
   d.val_measured.assign(measured.begin(), measured.end());
