@@ -113,6 +113,9 @@ function(lashid_add_firmware target)
     message(FATAL_ERROR "lashid_add_firmware(${target}): no board library ${board} (LASHID_BOARD '${LASHID_BOARD}')")
   endif()
   target_link_libraries(${target} PRIVATE ${arg_LIBS} ${board} lashid::warnings)
+  # The map file next to the image (a -Map=. in the toolchain's flags put every map in the build root, named after
+  # the image but away from it).
+  target_link_options(${target} PRIVATE "LINKER:-Map=$<TARGET_FILE:${target}>.map")
   get_target_property(script ${board} LASHID_LINKER_SCRIPT)
   get_target_property(script_depends ${board} LASHID_LINKER_SCRIPT_DEPENDS)
   if(NOT script)

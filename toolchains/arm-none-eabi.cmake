@@ -51,8 +51,8 @@ set(CMAKE_ASM_FLAGS_INIT "${LASHID_CPU_FLAGS} --specs=nano.specs")
 # cache defaults: CMake appends its own -O3 to any *_FLAGS_RELEASE_INIT, but leaves an existing cache entry alone.
 set(CMAKE_C_FLAGS_RELEASE "-O2 -DNDEBUG" CACHE STRING "Flags used by the C compiler during RELEASE builds")
 set(CMAKE_CXX_FLAGS_RELEASE "-O2 -DNDEBUG" CACHE STRING "Flags used by the CXX compiler during RELEASE builds")
-# Unused sections are dropped; a map file <output>.map is written next to each ELF (GNU ld: -Map=<directory> names
-# the file after the output). CMake's link rule also passes the compile flags, so --specs=nano.specs (which may be
-# given only once) is already there; the core flags are repeated for links without the C++ flags.
-set(CMAKE_EXE_LINKER_FLAGS_INIT "${LASHID_CPU_FLAGS} -Wl,--gc-sections -Wl,-Map=.")
+# Unused sections are dropped (lashid_add_firmware, cmake/Firmware.cmake, also writes each image's map file next to
+# it). CMake's link rule also passes the compile flags, so --specs=nano.specs (which may be given only once) is
+# already there; the core flags are repeated for links without the C++ flags.
+set(CMAKE_EXE_LINKER_FLAGS_INIT "${LASHID_CPU_FLAGS} -Wl,--gc-sections")
 unset(_lashid_common)
