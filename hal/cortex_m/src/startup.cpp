@@ -86,8 +86,10 @@ constexpr VectorTable make_vectors() {
 
 }  // namespace
 
+// extern: a namespace-scope const has internal linkage, even in extern "C", and the linker script's
+// EXTERN(lashid_cortex_m_vectors) would find nothing by that name (the table came in only with Reset_Handler).
 extern "C" {
-[[gnu::used, gnu::section(".isr_vector")]] constinit const VectorTable lashid_cortex_m_vectors = make_vectors();
+[[gnu::used, gnu::section(".isr_vector")]] extern constinit const VectorTable lashid_cortex_m_vectors = make_vectors();
 }
 
 // ---- Reset -------------------------------------------------------------------------------------------------------------
@@ -97,6 +99,9 @@ extern "C" [[noreturn]] void lashid_cortex_m_start();
 // Naked: runs before anything may use the stack or an FP register, so no compiler-generated code at all.
 extern "C" [[gnu::naked, noreturn]] void Reset_Handler() {
   __asm__ volatile(
+      // Interrupts masked until our vector table is installed (lashid_cortex_m_start): a boot loader that jumps here
+      // may leave a peripheral interrupting, whose handler (its own) would run over the RAM being initialised.
+      "cpsid i\n\t"
 #if defined(__ARM_FP)
       // CPACR |= CP10, CP11 full access; DSB + ISB so that the next instruction already sees the FPU enabled
       // (ARMv7-M ARM, B3.2.20). Any FP instruction before this point would raise a NOCP UsageFault.
@@ -157,6 +162,7 @@ extern "C" [[noreturn]] void lashid_cortex_m_start() {
   for (std::uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0U;
   reg(kVtor) = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(&lashid_cortex_m_vectors));
   __asm__ volatile("dsb\n\tisb" ::: "memory");
+  __asm__ volatile("cpsie i" ::: "memory");  // masked since Reset_Handler; the handlers are ours from here on
   enable_stack_guard();
   for (const InitFunction* f = __preinit_array_start; f < __preinit_array_end; ++f) (*f)();
   for (const InitFunction* f = __init_array_start; f < __init_array_end; ++f) (*f)();
