@@ -388,6 +388,12 @@ TEST_F(Cli, NoCommandWritesOverItsOwnInputOrAnotherOutput) {
       {{"diagnose", "--config", "cfg.json", "--data", "rec.csv", "--plot", "./cfg.json"}, "--plot", "--config"},
       {{"simulate", "--scenario", "ais_paper", "--out", "new.csv", "--config-out", "new.csv"}, "--out",
        "--config-out"},
+      // Two names of one file that does not exist yet (a relative name stayed relative, the other became absolute:
+      // both were written, the second over the first).
+      {{"simulate", "--scenario", "ais_paper", "--out", "new.csv", "--config-out", "./new.csv"}, "--out",
+       "--config-out"},
+      {{"diagnose", "--config", "cfg.json", "--data", "rec.csv", "--json", "d.json", "--plot", "sub/../d.json"},
+       "--json", "--plot"},
   };
   for (const Case& c : cases) {
     const Outcome r = run(c.args);

@@ -29,9 +29,15 @@ bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
     const bool same = std::filesystem::equivalent(a, b, ec);
     if (!ec) return same;
   }
-  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ec);
+  // Absolute first: weakly_canonical leaves a relative path whose file does not exist yet relative ("s2.csv"), while
+  // "./s2.csv" became absolute, and the two names of one new file compared unequal (one output lost the other).
+  const auto canonical = [&ec](const std::filesystem::path& p) {
+    const std::filesystem::path absolute = std::filesystem::absolute(p, ec);
+    return ec ? std::filesystem::path{} : std::filesystem::weakly_canonical(absolute, ec).lexically_normal();
+  };
+  const std::filesystem::path ca = canonical(a);
   if (ec) return false;
-  const std::filesystem::path cb = std::filesystem::weakly_canonical(b, ec);
+  const std::filesystem::path cb = canonical(b);
   return !ec && ca == cb;
 }
 
