@@ -364,6 +364,34 @@ TEST_F(CliBadInput, DiagnoseNamesTheMissingPhaseAndWritesNothing) {
                             (work_ / "stuck.csv").string()});
   EXPECT_EQ(flat.exit_code, 1) << flat;
   EXPECT_TRUE(Contains(flat.err, "stuck.csv: phase 'val' has the same y (1.5) in all its")) << flat;
+  // A val input that never moves, and one val y too large for the sums: named, not a statistics function's message.
+  std::string still, huge;
+  {
+    std::istringstream again(text);
+    bool first_val = true;
+    for (std::string line; std::getline(again, line);) {
+      std::string s = line, h = line;
+      if (line.starts_with("val,")) {
+        const auto v_at = line.find(',', line.find(',') + 1) + 1;  // phase,t,v,y
+        const auto y_at = line.rfind(',') + 1;
+        s = line.substr(0, v_at) + "0.5" + line.substr(y_at - 1);
+        if (first_val) h = line.substr(0, y_at) + "1e160";
+        first_val = false;
+      }
+      still += s + "\n";
+      huge += h + "\n";
+    }
+  }
+  std::ofstream(work_ / "still.csv") << still;
+  std::ofstream(work_ / "huge.csv") << huge;
+  const Outcome moveless = run({"diagnose", "--config", (work_ / "cfg.json").string(), "--data",
+                                (work_ / "still.csv").string()});
+  EXPECT_EQ(moveless.exit_code, 1) << moveless;
+  EXPECT_TRUE(Contains(moveless.err, "still.csv: phase 'val' holds v = 0.5 in all its")) << moveless;
+  const Outcome big = run({"diagnose", "--config", (work_ / "cfg.json").string(), "--data",
+                           (work_ / "huge.csv").string()});
+  EXPECT_EQ(big.exit_code, 1) << big;
+  EXPECT_TRUE(Contains(big.err, "huge.csv: phase val t = 0: y = 1e+160 is too large for the model's sums")) << big;
 }
 
 namespace {

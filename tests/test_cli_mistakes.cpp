@@ -316,6 +316,13 @@ TEST_F(CliMistakes, IdentifyLeavesOutWhatLiesOutsideTheSensorRangeAndSaysSo) {
   ASSERT_EQ(d.exit_code, 0) << d;
   EXPECT_TRUE(Contains(d.err, "lie outside the config's sensor_range [-1000, 215]: the DIS/AIS estimates leave them "
                               "out, the joint model of the diagnosis fits them")) << d;
+  // A range the whole step experiment lies outside: said as such, not as a pulse sample before the step mean.
+  cfg["sensor_range"] = {1e9, 2e9};
+  std::ofstream(work_ / "far.json") << cfg.dump();
+  const Outcome far = run({"identify", "--config", "far.json", "--data", "rec.csv"});
+  EXPECT_EQ(far.exit_code, 1) << far;
+  EXPECT_TRUE(Contains(far.err, "phase step_d: no usable sample for the step mean (2001 of its 2001 outside the "
+                                "config's sensor_range)")) << far;
 }
 
 // CLI11 says what is missing before the word it did not know: a misspelt command was "A subcommand is required"

@@ -48,8 +48,10 @@ int run_diagnose(const DiagnoseArgs& args) {
     names += to_string(c);
   }
   // "cause" is the strongest; "parameters" those of every cause found (as in the JSON).
-  fmt::print("causes: {}\ncause: {}\nparameters: {}\nfit_nominal: {:.2f} %\nfit_extended: {:.2f} %\n", names,
-             to_string(d.cause), to_string(d.parameters), d.fit_nominal, d.fit_extended);
+  // A fit below -999 % is a simulation that runs away: said in words, as in the findings, not as a 40-digit number.
+  const auto fit = [](double f) { return f >= -999.0 ? fmt::format("{:.2f} %", f) : describe_fit(f); };
+  fmt::print("causes: {}\ncause: {}\nparameters: {}\nfit_nominal: {}\nfit_extended: {}\n", names, to_string(d.cause),
+             to_string(d.parameters), fit(d.fit_nominal), fit(d.fit_extended));
   if (!args.plot_out.empty()) report::plot_diagnosis(d, args.plot_out);
   if (!args.json_out.empty()) write_json_file(args.json_out, to_json(d));
   return 0;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "diagnosis_candidates.hpp"
+#include "lashid/estimator/status.hpp"
 #include "diagnosis_selection.hpp"
 
 namespace lashid::sim {
@@ -41,6 +42,21 @@ void check_diagnosable(const ExperimentConfig& config, const Recording& recordin
     throw DataError(data_name, fmt::format("phase 'val' has the same y ({:g}) in all its {} samples: nothing to "
                                            "judge a model by",
                                            val.front().y, val.size()));
+  }
+  // The residual tests correlate the errors with the input: an input that never moves gives them nothing.
+  if (std::all_of(val.begin(), val.end(), [&](const Sample& s) { return s.v == val.front().v; })) {
+    throw DataError(data_name, fmt::format("phase 'val' holds v = {:g} in all its {} samples: the residual tests "
+                                           "need an input that moves",
+                                           val.front().v, val.size()));
+  }
+  // The identification phases are checked by the estimator (identify_scheme names the sample); val's y must also
+  // fit the sums of squares (est::kMaxSampleMagnitude, as there), or the statistics end in NaN.
+  for (std::size_t t = 0; t < val.size(); ++t) {
+    if (!est::usable(val[t].y)) {
+      throw DataError(data_name, fmt::format("phase val t = {}: y = {:g} is too large for the model's sums (at most "
+                                             "{:g} in magnitude)",
+                                             t, val[t].y, est::kMaxSampleMagnitude<double>));
+    }
   }
 }
 

@@ -103,6 +103,15 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
     }
   };
   feed(step_phase, [&](Scalar v, Scalar y) { return id.add_step_sample(v, y); });
+  if (!id.step_mean().ready()) {
+    // Said here, not as the first pulse sample's "before the step-experiment mean".
+    const std::size_t samples = recording.phase(step_phase).size();
+    throw DataError(data_name, fmt::format("phase {}: no usable sample for the step mean ({})", to_string(step_phase),
+                                           out_of_range > 0
+                                               ? fmt::format("{} of its {} outside the config's sensor_range",
+                                                             out_of_range, samples)
+                                               : fmt::format("its {} samples NaN or too large", samples)));
+  }
   feed(pulse_phase, [&](Scalar v, Scalar y) { return id.add_pulse_sample(v, y); });
 
   const auto e = id.estimate();
