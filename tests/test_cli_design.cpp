@@ -156,6 +156,13 @@ TEST_F(CliDesign, RefusesBadOptionsNamingTheRuleAndWritesNothing) {
     EXPECT_TRUE(Contains(r.err, c.message)) << r;
     EXPECT_FALSE(fs::exists(work_ / "cfg.json")) << c.message;
   }
+  // A run longer than the firmware's 32-bit sample counter: the options to shorten, each named once.
+  const Outcome run_too_long = design({"--n", "2", "--m", "6", "--v-min", "-3", "--v-max", "4", "--operator", "switch",
+                                       "--step-length", "2147483647", "--out", "cfg.json"});
+  EXPECT_EQ(run_too_long.exit_code, 1) << run_too_long;
+  EXPECT_TRUE(Contains(run_too_long.err, "shorten --step-length, --pulse-length or --val-length (firmware status"))
+      << run_too_long;
+  EXPECT_FALSE(fs::exists(work_ / "cfg.json"));
   const Outcome inverted = design({"--n", "2", "--m", "6", "--v-min", "5", "--v-max", "4", "--operator", "switch",
                                    "--out", "cfg.json"});
   EXPECT_EQ(inverted.exit_code, 1) << inverted;

@@ -126,7 +126,9 @@ double grid_level(double v_min, double v_max, int K, int i) {
 // A rule the reader states on a config key ('val_length' = -1 must not be negative), said in terms of the option
 // that gave the value: the options are at fault, not the file about to be written.
 std::string in_option_terms(std::string message) {
+  // The pair first: one option sets both pulse lengths, and a message naming both keys names it once.
   static constexpr std::pair<std::string_view, std::string_view> kOptions[] = {
+      {"'pulse_length_d', 'pulse_length_a'", "--pulse-length"},
       {"'pulse_length_d'", "--pulse-length"}, {"'pulse_length_a'", "--pulse-length"},
       {"'step_length'", "--step-length"},     {"'val_length'", "--val-length"},
       {"'val_seed'", "--val-seed"},           {"'v_min'", "--v-min"},
