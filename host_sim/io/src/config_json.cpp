@@ -81,11 +81,13 @@ class ConfigReader : detail::JsonFieldReader {
   int read_int(const json& object, std::string_view key, int min, int max) const {
     const json& value = required(object, key);
     if (!value.is_number_integer()) fail(fmt::format("'{}' must be an integer, got {}", key, detail::shown(value)));
-    // Unsigned JSON integers may exceed int64; clamp them to a value that is out of range anyway.
-    const std::int64_t number =
-        value.is_number_unsigned()
-            ? static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), std::uint64_t{1} << 32U))
-            : value.get<std::int64_t>();
+    // Unsigned JSON integers may exceed int64: compared as they are, and quoted as the file has them (a clamped
+    // stand-in was quoted as if the file held it).
+    if (value.is_number_unsigned() && value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
+      fail(fmt::format("'{}' = {} is outside {} [{}, {}]", key, value.get<std::uint64_t>(), limits_.range_name, min,
+                       max));
+    }
+    const std::int64_t number = value.get<std::int64_t>();
     if (number < min || number > max) {
       fail(fmt::format("'{}' = {} is outside {} [{}, {}]", key, number, limits_.range_name, min, max));
     }
