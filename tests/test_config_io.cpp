@@ -273,6 +273,27 @@ TEST(ConfigRecordingMatch, RejectsInputsOutsideRangeOrOffDesign) {
   EXPECT_NO_THROW(check_recording_matches(config, nearly_on_design, "rec.csv"));
 }
 
+// On an interval far from 0 the tolerance follows the interval's width and a float32 rounding of the level, not
+// |v|: on [1e6, 1e6 + 1] 64 eps32 |v| is 7.6, wider than the interval, and every off-design v matched some level
+// (a new-user tryout, session 18). A float32 device's level (float(1e6 + 0.3) = 1000000.3125) still matches.
+TEST(ConfigRecordingMatch, FarFromZeroAnOffDesignLevelIsStillRefused) {
+  json document = valid_document();
+  document["v_min"] = 1e6;
+  document["v_max"] = 1e6 + 1;
+  document["V_d"] = {1e6, 1e6 + 0.3, 1e6 + 0.5, 1e6 + 0.6, 1e6 + 0.7, 1e6 + 0.8};
+  document["V_a"] = {1e6 + 1, 1e6 + 0.8, 1e6 + 0.7, 1e6 + 0.6, 1e6 + 0.5, 1e6 + 0.3};
+  const ExperimentConfig config = parse_config_json(document.dump(), kSource);
+  const auto dis_with = [](double v) {
+    Recording r;
+    for (std::size_t t = 0; t < kExamplePulseMinimum; ++t) r.append(Phase::kDis, t == 3 ? v : 1e6 + 1, 0.0);
+    return r;
+  };
+  EXPECT_NO_THROW(check_recording_matches(config, dis_with(static_cast<double>(static_cast<float>(1e6 + 0.3))),
+                                          "rec.csv"));
+  EXPECT_TRUE(Contains(error_of([&] { check_recording_matches(config, dis_with(1e6 + 0.1), "rec.csv"); }),
+                       "rec.csv: phase 'dis' t = 3: v = 1000000.1 is not one of the configured levels"));
+}
+
 TEST(ConfigRecordingMatch, RejectsTooShortPhases) {
   const ExperimentConfig config = parse_config_json(valid_document().dump(), kSource);
   Recording short_step;

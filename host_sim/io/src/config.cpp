@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -60,9 +61,14 @@ std::vector<double> allowed_levels(const ExperimentConfig& config, Phase phase) 
 }  // namespace
 
 double level_tolerance(const ExperimentConfig& config) {
-  const double scale = std::max({config.v_max - config.v_min, std::fabs(config.v_min), std::fabs(config.v_max)});
-  // The firmware classifier's own resolution in float32 (est::LagrangeBasis).
-  return static_cast<double>(est::kLevelResolution<float>) * scale;
+  // Two things a recorded level may differ by: a float32 device's rounding of it (at most half a float32 ulp of the
+  // largest |v|, and eps32 |v| / 2 bounds that), and the firmware classifier's resolution, relative to the interval
+  // (est::LagrangeBasis works on v - held: kLevelResolution x the width). Not kLevelResolution x |v|: on an interval
+  // far from 0 ([1e6, 1e6 + 1]) that was 7.6, wider than the interval, and every off-design v matched some level.
+  const double magnitude = std::max(std::fabs(config.v_min), std::fabs(config.v_max));
+  constexpr double kEps32 = std::numeric_limits<float>::epsilon();
+  return std::max(0.5 * kEps32 * magnitude,
+                  static_cast<double>(est::kLevelResolution<float>) * (config.v_max - config.v_min));
 }
 
 Recording snap_to_configured_levels(const ExperimentConfig& config, const Recording& recording) {
