@@ -33,8 +33,8 @@ int run_diagnose(const DiagnoseArgs& args) {
       for (const Sample& x : rec.phase(p)) outside += x.y < lo || x.y > hi ? 1U : 0U;
     }
     if (outside > 0) {
-      fmt::print(stderr, "note: {}: {} samples lie outside the config's sensor_range [{:g}, {:g}]: the DIS/AIS estimates "
-                         "leave them out, the joint model of the diagnosis fits them\n",
+      fmt::print(stderr, "note: {}: {} samples lie outside the config's sensor_range [{:g}, {:g}]: the DIS/AIS "
+                         "estimates leave them out, the joint model of the diagnosis fits them\n",
                  args.data, outside, lo, hi);
     }
   }

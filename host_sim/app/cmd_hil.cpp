@@ -166,9 +166,9 @@ int run_checked_hil(const HilArgs& args) {
     if (!expected->equal) verdict.failures.push_back(HilFailure::kDifferentFromExpected);
   }
 
-  fmt::print("== hil: {}, design {}, plant {} ==\n",
-             args.firmware.empty() ? std::string("attached board") : fmt::format("{} on {}", args.firmware, args.machine),
-             args.config.empty() ? args.scenario : args.config,
+  const std::string board =
+      args.firmware.empty() ? std::string("attached board") : fmt::format("{} on {}", args.firmware, args.machine);
+  fmt::print("== hil: {}, design {}, plant {} ==\n", board, args.config.empty() ? args.scenario : args.config,
              args.physical_plant ? std::string("physical (the board's own actuator and sensor)")
                                  : fmt::format("{} (seed {})", args.plant.empty() ? args.scenario : args.plant,
                                                args.seed));
@@ -234,28 +234,22 @@ int run_checked_hil(const HilArgs& args) {
   ExperimentConfig shown = config ? *config : scenario->config;
   if (!args.plant.empty() || config) shown.truth.reset();
   for (const auto& e : r.estimates) print_estimate(e, shown);
+  nlohmann::json out;
   if (r.cross_check) {
     const auto& c = *r.cross_check;
     if (c.max_z < 0) {
       fmt::print("  cross-check (Remark 3b): not available (a scheme failed)\n");
+      out["cross_check"] = nullptr;
     } else {
       // The order n from a usable estimate (none may have arrived: the index is then printed as it is).
       const std::optional<std::size_t> k = verdict.dis ? verdict.dis : verdict.ais;
-      const int n = k ? r.estimates[*k].n : 0;
+      const std::string worst = cross_check_parameter(c.worst, k ? r.estimates[*k].n : 0);
       fmt::print("  cross-check (Remark 3b): max |DIS - AIS| / se = {:.2f} on {} (threshold {:.1f}): {}\n", c.max_z,
-                 cross_check_parameter(c.worst, n), c.threshold,
+                 worst, c.threshold,
                  c.disagree ? "DISAGREE: the nonlinearity is not the assumed switch/backlash" : "agree");
+      out["cross_check"] = {
+          {"max_z", c.max_z}, {"threshold", c.threshold}, {"disagree", c.disagree != 0}, {"worst", worst}};
     }
-  }
-  nlohmann::json out;
-  if (r.cross_check) {
-    const auto& c = *r.cross_check;
-    const std::optional<std::size_t> k = verdict.dis ? verdict.dis : verdict.ais;
-    out["cross_check"] = c.max_z < 0 ? nlohmann::json(nullptr)
-                                     : nlohmann::json{{"max_z", c.max_z},
-                                                      {"threshold", c.threshold},
-                                                      {"disagree", c.disagree != 0},
-                                                      {"worst", cross_check_parameter(c.worst, k ? r.estimates[*k].n : 0)}};
   }
   if (r.cost) {
     const auto& c = *r.cost;
@@ -282,7 +276,7 @@ int run_checked_hil(const HilArgs& args) {
   }
   for (const auto& e : r.estimates) out[e.scheme == est::Scheme::kDescending ? "dis" : "ais"] = estimate_json(e);
   out["done"] = r.done;
-  out["done_name"] = r.done < 0 ? "no report" : run_status_name(r.done);
+  out["done_name"] = run_status_name(r.done);
   out["design_status"] = r.design_status;
   out["design_status_name"] =
       r.design_status < 0 ? "no answer" : fw::to_string(static_cast<fw::DesignStatus>(r.design_status));
@@ -364,7 +358,8 @@ int run_qemu_command(const QemuCommandArgs& args) {
   command.serials = args.serials;
   command.icount = args.icount;
   command.kernel = args.kernel;
-  check_firmware_image(command.kernel, command.machine, "qemu-command");  // as hil checks it: a line for an image QEMU cannot run is no help
+  // Checked as hil checks it: a command line for an image QEMU cannot run is no help.
+  check_firmware_image(command.kernel, command.machine, "qemu-command");
   // One argument per line, for `mapfile -t` in scripts (paths with spaces stay one argument).
   for (const std::string& arg : qemu_command_line(command)) fmt::print("{}\n", arg);
   return 0;

@@ -190,8 +190,8 @@ void score_candidate(CandidateCause& c, const JointModel& before, std::span<cons
     const std::span<const double> measured(data.y.data() + val_begin, val_end - val_begin);
     const double before_sse = sse(before_val, measured), after_sse = sse(simulated, measured);
     // Against a model whose val simulation diverges, the flipped operator counts only if its own does not.
-    const double ratio = std::isfinite(before_sse) ? after_sse / before_sse
-                                                   : (std::isfinite(after_sse) ? 0.0 : std::numeric_limits<double>::infinity());
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const double ratio = std::isfinite(before_sse) ? after_sse / before_sse : (std::isfinite(after_sse) ? 0.0 : kInf);
     c.statistic = std::isfinite(ratio) ? ratio : std::numeric_limits<double>::infinity();
     c.p_value = ratio < options.operator_sse_ratio ? 0.0 : 1.0;
   } else if (c.cause != Cause::kColoredNoise) {

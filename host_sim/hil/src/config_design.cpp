@@ -88,10 +88,12 @@ fw::RunDesign run_design_as_is(const ExperimentConfig& config, const ExperimentL
   d.val_length = to_count(lengths.val_length, "val_length", source_name);
   d.val_seed = lengths.val_seed;
   if (config.sensor_range) {
-    // Rounded outwards: a value the host's double range allows is never a bad value on the device.
-    const auto [lo, hi] = *config.sensor_range;
-    d.sensor_min = std::nextafter(to_float(lo, "sensor_range", source_name), -std::numeric_limits<float>::infinity());
-    d.sensor_max = std::nextafter(to_float(hi, "sensor_range", source_name), std::numeric_limits<float>::infinity());
+    for (const double bound : *config.sensor_range) (void)to_float(bound, "sensor_range", source_name);  // in range
+    // Rounded outwards (float32_sensor_range, which identify applies too): a value the host's double range allows is
+    // never a bad value on the device.
+    const auto [lo, hi] = float32_sensor_range(config);
+    d.sensor_min = lo;
+    d.sensor_max = hi;
   }
   return d;
 }

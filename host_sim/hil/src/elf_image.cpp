@@ -105,9 +105,10 @@ std::optional<std::string> elf_damage(const std::string& path) {
   for (std::size_t i = 0; i < phnum; ++i) {
     const std::size_t at = phoff + i * phentsize;
     if (le32(b, at) != kPtLoad) continue;
-    if (static_cast<std::uint64_t>(le32(b, at + 4)) + le32(b, at + 16) > b.size()) {
-      return fmt::format("its segment {} ends at byte {}, past the end of the file ({} bytes): cut short?", i,
-                         static_cast<std::uint64_t>(le32(b, at + 4)) + le32(b, at + 16), b.size());
+    const std::uint64_t end = std::uint64_t{le32(b, at + 4)} + le32(b, at + 16);
+    if (end > b.size()) {
+      return fmt::format("its segment {} ends at byte {}, past the end of the file ({} bytes): cut short?", i, end,
+                         b.size());
     }
   }
   // The section table (e_shoff at 32; 0 when there is none) holds the machine and plant tags.

@@ -42,7 +42,6 @@ const char* preset_for(const std::string& machine) {
   return nullptr;
 }
 
-
 // An image whose plant is its own waits for a design on its link while nothing plays its plant port, and an image
 // whose plant is played waits on a plant port nobody answers: both run into the time limit. Refused before QEMU starts.
 void check_plant(const HilOptions& options) {
@@ -80,10 +79,10 @@ void check_firmware_image(const std::string& firmware, const std::string& machin
   const std::optional<std::string> built_for = detail::elf_machine_tag(firmware);
   if (!built_for || *built_for == machine) return;
   const char* preset = preset_for(machine);
-  throw std::runtime_error(fmt::format(
-      "{}: firmware '{}' is built for QEMU machine '{}', not '{}': run it with --machine {}{}", command, firmware, *built_for,
-      machine, *built_for,
-      preset != nullptr ? fmt::format(", or build the image for {} (preset {})", machine, preset) : ""));
+  throw std::runtime_error(
+      fmt::format("{}: firmware '{}' is built for QEMU machine '{}', not '{}': run it with --machine {}{}", command,
+                  firmware, *built_for, machine, *built_for,
+                  preset != nullptr ? fmt::format(", or build the image for {} (preset {})", machine, preset) : ""));
 }
 
 HilResult run_hil(const HilOptions& options) {

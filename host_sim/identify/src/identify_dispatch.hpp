@@ -4,6 +4,7 @@
 // (identify_float.cpp, identify_double.cpp), so the two build in parallel.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -63,16 +64,16 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
     throw DataError(data_name, fmt::format("config rejected by the estimator: {}", est::to_string(s)));
   }
   // The config's sensor range, as the device applies it: in float32 with its bounds rounded outwards (the design
-  // it is sent in, config_design.cpp), exactly in double. A y outside it is a bad sensor value: left out, with the
+  // it is sent in: float32_sensor_range), exactly in double. A y outside it is a bad sensor value: left out, with the
   // rows that lag it, as the device leaves it out.
   Scalar range_lo = -std::numeric_limits<Scalar>::infinity(), range_hi = std::numeric_limits<Scalar>::infinity();
-  if (config.sensor_range) {
-    range_lo = static_cast<Scalar>((*config.sensor_range)[0]);
-    range_hi = static_cast<Scalar>((*config.sensor_range)[1]);
-    if constexpr (std::is_same_v<Scalar, float>) {
-      range_lo = std::nextafter(range_lo, -std::numeric_limits<float>::infinity());
-      range_hi = std::nextafter(range_hi, std::numeric_limits<float>::infinity());
-    }
+  if constexpr (std::is_same_v<Scalar, float>) {
+    const std::array<float, 2> range = float32_sensor_range(config);
+    range_lo = range[0];
+    range_hi = range[1];
+  } else if (config.sensor_range) {
+    range_lo = (*config.sensor_range)[0];
+    range_hi = (*config.sensor_range)[1];
   }
   std::int64_t out_of_range = 0;
   const auto feed = [&](Phase phase, auto add) {

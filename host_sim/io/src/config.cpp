@@ -71,6 +71,18 @@ double level_tolerance(const ExperimentConfig& config) {
                   static_cast<double>(est::kLevelResolution<float>) * (config.v_max - config.v_min));
 }
 
+std::array<float, 2> float32_sensor_range(const ExperimentConfig& config) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  if (!config.sensor_range) return {-kInf, kInf};
+  const auto as_float = [](double x) {
+    // Beyond float32's range: infinite with its sign (a plain conversion would be undefined behaviour).
+    if (std::fabs(x) > static_cast<double>(std::numeric_limits<float>::max())) return x > 0 ? kInf : -kInf;
+    return static_cast<float>(x);
+  };
+  return {std::nextafter(as_float((*config.sensor_range)[0]), -kInf),
+          std::nextafter(as_float((*config.sensor_range)[1]), kInf)};
+}
+
 Recording snap_to_configured_levels(const ExperimentConfig& config, const Recording& recording) {
   const double tolerance = level_tolerance(config);
   Recording out;

@@ -1,8 +1,8 @@
 // The bytes a UART's receive interrupt takes off the wire, kept until the firmware's next poll (hal::Board's
 // link_read); or, the other way round, the bytes the main loop queues for a transmit interrupt to put on the wire
-// (the producer then checks room() first and pushes whole frames). A UART without a FIFO holds one byte: the sequencer polls the link once per sample (1 ms), in which
-// time 11 bytes arrive at 115200 baud, so a command sent during a run would overrun it. The interrupt moves each byte
-// here within a character time instead.
+// (the producer then checks room() first and pushes whole frames). A UART without a FIFO holds one byte: the
+// sequencer polls the link once per sample (1 ms), in which time 11 bytes arrive at 115200 baud, so a command sent
+// during a run would overrun it. The interrupt moves each byte here within a character time instead.
 //
 // One producer (the interrupt handler) and one consumer (the main loop), on one core: each index is written by one
 // side only, so plain atomic loads and stores suffice (no read-modify-write, which ARMv6-M lacks). A loss (a byte

@@ -106,9 +106,15 @@ ExperimentConfig parse_config_json(std::string_view text, std::string_view sourc
 void check_recording_matches(const ExperimentConfig& config, const Recording& recording, std::string_view data_name);
 
 // How far a recorded input of an identification phase may lie from a configured level and still be that level:
-// 64 float32 eps of max(v_max - v_min, |v_min|, |v_max|). A recording made by a float32 device (the firmware through
-// `lashid hil --record`) holds float(V_j), which differs from a level such as 1/3 by up to half a float32 ulp.
+// the larger of 64 float32 eps of the interval's width (the firmware classifier's resolution) and half a float32 eps
+// of max(|v_min|, |v_max|). A recording made by a float32 device (the firmware through `lashid hil --record`) holds
+// float(V_j), which differs from a level such as 1/3 by up to half a float32 ulp.
 double level_tolerance(const ExperimentConfig& config);
+
+// The config's sensor range as a float32 device applies it (fw::RunDesign::sensor_min/max): each bound in float32,
+// then one float32 step outwards, so that a value the double range allows is never a bad value on the device.
+// [-inf, inf] without a range; a bound beyond float32's range is infinite (to_run_design refuses it by name).
+std::array<float, 2> float32_sensor_range(const ExperimentConfig& config);
 
 // The recording with every input of an identification phase that lies within level_tolerance() of one of the
 // phase's configured levels replaced by the nearest such level (validation inputs untouched): what the double
