@@ -2,11 +2,11 @@
 # cm7-release, cm3-release; stm32f4 with stm32f405-release). See docs/firmware-platform.md and docs/porting.md.
 #
 #   lashid_add_firmware(<target> SOURCES <file>... [LIBS <library>...] [TIMEOUT <seconds>] [NO_RUN_TEST]
-#                       [STACK_SIZE <bytes>] [MAX_FLASH <bytes>] [MAX_RAM <bytes>])
+#                       [NO_STACK_CHECK] [STACK_SIZE <bytes>] [MAX_FLASH <bytes>] [MAX_RAM <bytes>])
 #
 # builds <target>.elf against the board library (lashid::hal_${LASHID_BOARD}) with the linker script that library names
 # in its LASHID_LINKER_SCRIPT property (and a stack of STACK_SIZE bytes instead of the script's 16 KiB), prints a flash/RAM report after each link, and
-# registers two tests, three with a budget:
+# registers three tests, four with a budget:
 #   <target>_runs_in_qemu   runs the ELF in qemu-system-arm (CMAKE_CROSSCOMPILING_EMULATOR); passes on exit code 0,
 #                           fails on any other code or after TIMEOUT seconds (default 60: a hang fails); not with
 #                           NO_RUN_TEST (images that need a peer on their UARTs, tested through `lashid hil`)
@@ -15,6 +15,9 @@
 #   <target>_fits_its_budget  fails if flash exceeds MAX_FLASH or RAM (static + the reserved stack) exceeds MAX_RAM
 #   <target>_has_no_semihosting_trap  with LASHID_SEMIHOSTING OFF (a board without a debugger), instead of the run in
 #                           QEMU: fails if the image holds a `bkpt` (the semihosting trap, which faults there)
+#   <target>_stack_fits     the worst-case stack depth, proved from the compiler's call graph (cmake/StackDepth.cmake):
+#                           fails on recursion, an unbounded frame, an unresolved indirect call, or a worst case
+#                           beyond the reserved stack; not with NO_STACK_CHECK (an image that overflows on purpose)
 #
 # This file is also the script those two steps run (cmake -P with LASHID_FIRMWARE_ACTION = size | heap-check).
 
@@ -89,9 +92,52 @@ include_guard(GLOBAL)
 
 set(_lashid_firmware_script "${CMAKE_CURRENT_LIST_FILE}")
 set(_lashid_no_trap_script "${CMAKE_CURRENT_LIST_DIR}/NoSemihostingTrap.cmake")
+set(_lashid_stack_depth_script "${CMAKE_CURRENT_LIST_DIR}/StackDepth.cmake")
+
+# The targets with object files linked into <target> (itself and the static and object libraries it links, through
+# their interface links too): their objects' call graphs (<object>.ci) are the stack check's input.
+function(_lashid_object_targets target out)
+  set(found "")
+  set(pending ${target})
+  while(pending)
+    list(POP_FRONT pending t)
+    string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" t "${t}")
+    if(NOT TARGET "${t}")
+      continue()  # a flag, a file or a system library: no objects of ours
+    endif()
+    get_target_property(aliased ${t} ALIASED_TARGET)
+    if(aliased)
+      set(t ${aliased})
+    endif()
+    if(t IN_LIST found)
+      continue()
+    endif()
+    list(APPEND found ${t})
+    get_target_property(type ${t} TYPE)
+    set(links "")
+    if(NOT type STREQUAL "INTERFACE_LIBRARY")
+      get_target_property(links ${t} LINK_LIBRARIES)
+    endif()
+    get_target_property(interface_links ${t} INTERFACE_LINK_LIBRARIES)
+    foreach(list_of links interface_links)
+      if(${list_of})
+        list(APPEND pending ${${list_of}})
+      endif()
+    endforeach()
+  endwhile()
+  set(objects "")
+  foreach(t IN LISTS found)
+    get_target_property(type ${t} TYPE)
+    if(type MATCHES "^(EXECUTABLE|STATIC_LIBRARY|OBJECT_LIBRARY)$")
+      list(APPEND objects "$<TARGET_OBJECTS:${t}>")
+    endif()
+  endforeach()
+  set(${out} "${objects}" PARENT_SCOPE)
+endfunction()
 
 function(lashid_add_firmware target)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "NO_RUN_TEST" "TIMEOUT;STACK_SIZE;MAX_FLASH;MAX_RAM" "SOURCES;LIBS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "NO_RUN_TEST;NO_STACK_CHECK" "TIMEOUT;STACK_SIZE;MAX_FLASH;MAX_RAM"
+                        "SOURCES;LIBS")
   if(NOT CMAKE_CROSSCOMPILING)
     message(FATAL_ERROR "lashid_add_firmware(${target}): firmware images are built by the cross presets only")
   endif()
@@ -147,6 +193,24 @@ function(lashid_add_firmware target)
            COMMAND ${CMAKE_COMMAND} -DLASHID_FIRMWARE_ACTION=heap-check -DNM=${CMAKE_NM}
                    -DELF=$<TARGET_FILE:${target}> -P ${_lashid_firmware_script})
   set_tests_properties(${target}_is_heap_free PROPERTIES TIMEOUT 60 LABELS "firmware")
+  if(NOT arg_NO_STACK_CHECK)
+    # An exception frame: 8 words, 26 with the FP context (a core whose code uses FP registers), and 4 B of alignment.
+    set(exception_frame 36)
+    if(LASHID_CPU_FLAGS MATCHES "-mfloat-abi=(hard|softfp)")
+      set(exception_frame 108)
+    endif()
+    _lashid_object_targets(${target} objects)
+    add_test(NAME ${target}_stack_fits
+             COMMAND ${CMAKE_COMMAND} -DELF=$<TARGET_FILE:${target}> -DNM=${CMAKE_NM} -DOBJDUMP=${CMAKE_OBJDUMP}
+                     -DOBJCOPY=${CMAKE_OBJCOPY}
+                     "-DOBJECTS=${objects}" -DEXCEPTION_FRAME=${exception_frame}
+                     # The startup (hal/cortex_m/src/startup.cpp) calls the static constructors through these tables.
+                     "-DINDIRECT=lashid_cortex_m_start=.preinit_array+.init_array"
+                     # Their handlers switch to the fault stack before they push anything (startup.cpp).
+                     "-DFAULT_ROOTS=HardFault_Handler;NMI_Handler"
+                     -P ${_lashid_stack_depth_script})
+    set_tests_properties(${target}_stack_fits PROPERTIES TIMEOUT 120 LABELS "firmware")
+  endif()
   if(arg_MAX_FLASH OR arg_MAX_RAM)
     set(budget)
     if(arg_MAX_FLASH)

@@ -134,7 +134,8 @@ namespace {
 // The MPU's region 0 over [__stack_guard, __stack_limit): no access, not executable; the default memory map
 // everywhere else (PRIVDEFENA: everything here runs privileged). A push into the guard is a MemManage fault, taken
 // as HardFault (MemManage is not enabled), whose handler sees the stack pointer below __stack_limit and reports the
-// overflow. HardFault runs with the MPU off (HFNMIENA = 0), so the handler itself is not stopped by the guard.
+// overflow. HardFault runs with the MPU off (HFNMIENA = 0), so the handler itself is not stopped by the guard: it
+// runs its report in the guard, its own stack (HardFault_Handler).
 // Without an MPU (MPU_TYPE.DREGION = 0) or with a guard the MPU cannot describe, nothing is set.
 void enable_stack_guard() {
   using namespace lashid::hal::cortex_m::detail;
@@ -175,45 +176,69 @@ namespace {
 
 void say(const char* text) { lashid::hal::cortex_m::semihosting::write(text); }
 
+// The fault handlers' report is written in pieces, each number through a 12-byte buffer (no 240-byte message): they
+// run on the fault stack, the 128 bytes of the guard (below), and the build's stack check (cmake/StackDepth.cmake,
+// test <image>_stack_fits) fails if their deepest path does not fit it. No floating point here either: a lazily
+// preserved FP context would be saved into the faulting frame, which may be beyond the stack.
+void say_hex(std::uint32_t value) {
+  lashid::hal::cortex_m::Text<12> t;
+  t.hex(value);
+  say(t.c_str());
+}
+
 }  // namespace
 
-// Called by HardFault_Handler with the exception frame (r0-r3, r12, lr, pc, xPSR) of the faulting context, or with
-// nullptr when the stack had overflowed (the handler then runs on a fresh stack and the frame was never written).
+// Called by HardFault_Handler on the fault stack with the exception frame (r0-r3, r12, lr, pc, xPSR) of the faulting
+// context, or with nullptr when the stack had overflowed (the frame could not be stacked there). An overflow may also
+// leave a frame: a push that reaches into the guard from a few bytes above it faults with the stack pointer still
+// above (the push is abandoned), and the 8-word frame fits there. The MPU then names the address, in the guard.
 extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::uint32_t* frame) {
   using namespace lashid::hal::cortex_m;
   using namespace lashid::hal::cortex_m::detail;
   const std::uint32_t cfsr = reg(kCfsr);
-  Text<240> t;
-  if (frame == nullptr) {
-    t << "\nlashid: HardFault: stack overflow (the stack pointer went below __stack_limit, "
-      << static_cast<std::uint32_t>(stack_size_bytes()) << " bytes reserved) cfsr=";
+  const std::uintptr_t mmfar = reg(kMmfar);
+  const bool into_guard = (cfsr & kCfsrMmarValid) != 0U && mmfar >= reinterpret_cast<std::uintptr_t>(__stack_guard) &&
+                          mmfar < reinterpret_cast<std::uintptr_t>(__stack_limit);
+  if (frame == nullptr || into_guard) {
+    say(frame == nullptr ? "\nlashid: HardFault: stack overflow (the stack pointer went below __stack_limit, "
+                         : "\nlashid: HardFault: stack overflow (an access to the guard under the stack, ");
+    Text<12> size;
+    size << static_cast<std::uint32_t>(stack_size_bytes());
+    say(size.c_str());
+    say(" bytes reserved) cfsr=");
   } else {
-    t << "\nlashid: HardFault pc=";
-    t.hex(frame[6]) << " lr=";
-    t.hex(frame[5]) << " cfsr=";
+    say("\nlashid: HardFault pc=");
+    say_hex(frame[6]);
+    say(" lr=");
+    say_hex(frame[5]);
+    say(" cfsr=");
   }
-  t.hex(cfsr) << " hfsr=";
-  t.hex(reg(kHfsr));
+  say_hex(cfsr);
+  say(" hfsr=");
+  say_hex(reg(kHfsr));
   // The fault address registers only where CFSR says they hold one.
   if ((cfsr & kCfsrMmarValid) != 0U) {
-    t << " mmfar=";
-    t.hex(reg(kMmfar));
+    say(" mmfar=");
+    say_hex(reg(kMmfar));
   }
   if ((cfsr & kCfsrBfarValid) != 0U) {
-    t << " bfar=";
-    t.hex(reg(kBfar));
+    say(" bfar=");
+    say_hex(reg(kBfar));
   }
-  t << "\n";
-  say(t.c_str());
+  say("\n");
   if ((cfsr & kCfsrNoCp) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
-  semihosting::exit(frame == nullptr ? kExitStackOverflow : kExitHardFault);
+  semihosting::exit(frame == nullptr || into_guard ? kExitStackOverflow : kExitHardFault);
 }
 
-// The stack sits at the bottom of RAM: an overflow pushes below it, into memory that is not there (a BusFault,
-// escalated), and the frame of this exception could not be stacked either. The handler must then not touch that
-// stack: a fault inside HardFault is a lockup (ARMv7-M ARM, "Unrecoverable exception cases"; QEMU aborts). So before
-// anything is pushed, a frame pointer below __stack_limit moves MSP back to the top of the stack, and the report is
-// made there without a frame. Only MSP is used by this platform (no thread stack).
+// The fault stack: HardFault and NMI never run their report on the stack they interrupted, which may be within a few
+// bytes of its end (a fault there would run the report below RAM: a bus fault inside HardFault, a lockup). Before
+// anything is pushed, MSP moves to __stack_limit, the top of the 128-byte guard under the stack, and the report runs
+// in the guard: no one else can have written it (the MPU denies every access there, but to HardFault and NMI, which
+// run with the MPU off: HFNMIENA = 0), and these handlers never return, so nothing of it has to survive. Without an
+// MPU the guard is plain RAM, which an overflow may have written: the report does not read it. The faulting stack is
+// only read, for the frame, and only when its stack pointer is within the stack ([__stack_limit, __stack_top)): below
+// it the frame was not stacked (the overflow), and the report says "stack overflow". Only MSP is used by this
+// platform (no thread stack); a frame on PSP is read the same way.
 extern "C" [[gnu::naked]] void HardFault_Handler() {
   __asm__ volatile(
       "tst lr, #4\n\t"  // EXC_RETURN bit 2: which stack holds the frame
@@ -221,18 +246,26 @@ extern "C" [[gnu::naked]] void HardFault_Handler() {
       "mrseq r0, msp\n\t"
       "mrsne r0, psp\n\t"
       "ldr r1, =__stack_limit\n\t"
+      "msr msp, r1\n\t"  // the fault stack, from here on
       "cmp r0, r1\n\t"
-      "bhs 1f\n\t"
-      "ldr r1, =__stack_top\n\t"
-      "msr msp, r1\n\t"
-      "movs r0, #0\n\t"
-      "1:\n\t"
-      "b lashid_cortex_m_hard_fault\n\t");
+      "it lo\n\t"
+      "movlo r0, #0\n\t"  // below the stack: no frame
+      "b lashid_cortex_m_hard_fault\n\t"
+      ".ltorg\n\t");
 }
 
-extern "C" void NMI_Handler() {
+extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_nmi() {
   say("\nlashid: unexpected NMI\n");
   lashid::hal::cortex_m::semihosting::exit(lashid::hal::cortex_m::kExitUnexpectedIrq);
+}
+
+// NMI runs with the MPU off too, and may come at any depth: on the fault stack as well (see HardFault_Handler).
+extern "C" [[gnu::naked]] void NMI_Handler() {
+  __asm__ volatile(
+      "ldr r0, =__stack_limit\n\t"
+      "msr msp, r0\n\t"
+      "b lashid_cortex_m_nmi\n\t"
+      ".ltorg\n\t");
 }
 
 extern "C" void Default_Handler() {
