@@ -35,7 +35,7 @@ constexpr const char* to_string(Status s) {
     case Status::kNotExcited: return "not excited yet";
     case Status::kIllConditioned: return "ill-conditioned normal matrix";
     case Status::kDegenerateGain: return "degenerate gain (sum b_i^2 = 0 or B(1) = 0)";
-    case Status::kAbscissasTooClose: return "abscissas closer than the classifier resolves (64 eps of the largest)";
+    case Status::kAbscissasTooClose: return "abscissas closer than the classifier resolves (2 x 64 eps of the largest)";
   }
   return "unknown status";
 }

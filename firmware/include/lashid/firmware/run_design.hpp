@@ -83,7 +83,7 @@ constexpr const char* to_string(DesignStatus s) {
     case DesignStatus::kVaNotDecreasing: return "(4.2): V_a must be strictly decreasing";
     case DesignStatus::kVaNotAboveVMin: return "(4.2): the last V_a must be above v_min";
     case DesignStatus::kLevelsTooClose:
-      return "two levels closer than float32 resolves (64 eps of the largest step), or a step that overflows float32";
+      return "two levels closer than float32 resolves (2 x 64 eps of the largest step), or a step that overflows float32";
     case DesignStatus::kStepTooShort: return "step_length must exceed n (3.7)";
     case DesignStatus::kPulseDTooShort: return "pulse_length_d shorter than two pulse periods (Theorem 3.1)";
     case DesignStatus::kPulseATooShort: return "pulse_length_a shorter than two pulse periods (Theorem 3.1)";
