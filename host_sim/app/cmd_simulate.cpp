@@ -1,9 +1,12 @@
 // `lashid scenarios` and `lashid simulate`: the built-in plants and plant files, and recordings of them.
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -28,6 +31,33 @@ int run_scenarios() {
 
 namespace {
 
+// A recording streamed to its file (RecordingCsvStream: a temporary beside the target, renamed onto it at the end),
+// so that memory does not grow with the design's lengths: `lashid design` takes a val_length of 2^31 - 1, which held
+// in memory took about 44 bytes a sample (94 GB). Samples are counted per phase to name one that is not finite.
+class StreamedRecording {
+ public:
+  StreamedRecording(const std::string& path, const std::vector<std::string>& comments) : out_(path, comments) {}
+  // A plant whose values make its output overflow (a drift of 1e308 per sample, a huge gain) is the plant's fault,
+  // not the output file's: said naming `culprit`, and the temporary file is removed (nothing written).
+  void append(Phase phase, double v, double y, const std::string& culprit) {
+    std::size_t& t = count_[phase_index(phase)];
+    if (!std::isfinite(y)) {
+      throw DataError(culprit, fmt::format("the plant's output is not finite at phase {} t = {} (y = {}): its "
+                                           "values overflow the simulation (a gain, drift or noise too large, "
+                                           "or A unstable); nothing written",
+                                           to_string(phase), t, y));
+    }
+    out_.append(phase, v, y);
+    ++t;
+  }
+  std::size_t rows() const { return out_.rows(); }
+  void finish() { out_.finish(); }
+
+ private:
+  RecordingCsvStream out_;
+  std::array<std::size_t, kPhaseCount> count_{};
+};
+
 // `simulate --plant PLANT --config CFG`: the device's run of the config's design on the plant, without firmware.
 int run_simulate_plant(const SimulateArgs& args) {
   const PlantSpec spec = read_plant_json(args.plant);
@@ -35,27 +65,18 @@ int run_simulate_plant(const SimulateArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
   // The design the firmware would run for this config file: its lengths or their documented defaults.
   const fw::RunDesign design = to_run_design(config, args.config);
-  const Recording rec = simulate_file_plant(spec, args.plant, config, design, args.seed);
-  // A plant whose values make its output overflow (a drift of 1e308 per sample, a huge gain) is the plant file's
-  // fault, not the output file's: said before anything is written.
-  for (const Phase phase : rec.order()) {
-    const auto samples = rec.phase(phase);
-    for (std::size_t t = 0; t < samples.size(); ++t) {
-      if (std::isfinite(samples[t].y)) continue;
-      throw DataError(args.plant, fmt::format("the plant's output is not finite at phase {} t = {} (y = {}): its "
-                                              "values overflow the simulation (a gain, drift or noise too large, "
-                                              "or A unstable); nothing written",
-                                              to_string(phase), t, samples[t].y));
-    }
-  }
+  check_plant_covers(spec, config.v_min, config.v_max, args.plant);  // before the output file is created
   const std::vector<std::string> comments{
       fmt::format("lashid simulate --plant {} --config {} --seed {}", args.plant, args.config, args.seed),
       plant_summary(spec),
       fmt::format("L = {}, N_d = {}, N_a = {}; val: {} samples of the firmware's validation excitation, seed {}",
                   design.step_length, design.pulse_length_d, design.pulse_length_a, design.val_length,
                   design.val_seed)};
-  write_recording_csv(args.data_out, rec, comments);
-  fmt::print("wrote {} ({} samples)\n", args.data_out, rec.size());
+  StreamedRecording out(args.data_out, comments);
+  stream_file_plant(spec, args.plant, config, design, args.seed,
+                    [&](Phase phase, double v, double y) { out.append(phase, v, y, args.plant); });
+  out.finish();
+  fmt::print("wrote {} ({} samples)\n", args.data_out, out.rows());
   return 0;
 }
 
@@ -68,7 +89,6 @@ int run_simulate(const SimulateArgs& args) {
   SimulationOptions options;
   options.seed = args.seed;
   options.input_lag = args.input_lag;
-  const Recording rec = simulate(scenario, options);
   std::vector<std::string> comments{
       fmt::format("lashid simulate --scenario {} --seed {}", scenario.name, args.seed),
       scenario.description,
@@ -85,8 +105,13 @@ int run_simulate(const SimulateArgs& args) {
     if (args.input_lag != 0) config.truth.reset();  // the truth of the nominal plant no longer applies
     write_json_file(args.config_out, to_json(config));
   }
+  std::size_t rows = 0;
   try {
-    write_recording_csv(args.data_out, rec, comments);
+    StreamedRecording out(args.data_out, comments);
+    stream_simulation(scenario, options,
+                      [&](Phase phase, double v, double y) { out.append(phase, v, y, "--scenario " + scenario.name); });
+    out.finish();
+    rows = out.rows();
   } catch (...) {
     if (previous_config) {
       write_file_atomically(args.config_out, *previous_config);
@@ -95,7 +120,7 @@ int run_simulate(const SimulateArgs& args) {
     }
     throw;
   }
-  fmt::print("wrote {} ({} samples){}\n", args.data_out, rec.size(),
+  fmt::print("wrote {} ({} samples){}\n", args.data_out, rows,
              args.config_out.empty() ? "" : fmt::format(" and {}", args.config_out));
   return 0;
 }

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "lashid/plant/border.hpp"
-#include "lashid/sim/device_validation.hpp"
+#include "lashid/firmware/validation_excitation.hpp"
 #include "lashid/sim/scenario.hpp"
 
 namespace lashid::sim {
@@ -57,16 +57,29 @@ double FilePlant::step(double v) {
 
 Recording simulate_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
                               const fw::RunDesign& design, std::uint64_t seed) {
+  Recording rec;
+  stream_file_plant(spec, plant_name, config, design, seed,
+                    [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); });
+  return rec;
+}
+
+void stream_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
+                       const fw::RunDesign& design, std::uint64_t seed, const SampleSink& sink) {
   check_plant_covers(spec, config.v_min, config.v_max, plant_name);
   SimulationOptions options;
   options.seed = seed;
-  options.validation_input = device_validation_input(design);
-  options.validation_phase = !options.validation_input.empty();
+  options.validation_phase = false;  // below, from the device's generator
   FilePlant plant(spec, config.v_min, seed);
   const auto step = static_cast<int>(design.step_length);
   const PhaseLengths phases{step, static_cast<int>(design.pulse_length_d), step, static_cast<int>(design.pulse_length_a),
                             static_cast<int>(design.val_length)};
-  return simulate_phases(config, phases, options, [&plant](double v) { return plant.step(v); });
+  stream_phases(config, phases, options, [&plant](double v) { return plant.step(v); }, sink);
+  // device_validation_input() one sample at a time: the float the device sends, widened to double.
+  fw::ValidationExcitation excitation(design);
+  for (std::uint32_t t = 0; t < design.val_length; ++t) {
+    const auto v = static_cast<double>(excitation.next());
+    sink(Phase::kVal, v, plant.step(v));
+  }
 }
 
 }  // namespace lashid::sim

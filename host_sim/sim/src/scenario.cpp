@@ -1,5 +1,6 @@
 #include "lashid/sim/scenario.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -75,26 +76,54 @@ Scenario ais_paper() {
 
 enum class Experiment : std::uint8_t { kStep, kPulse };
 
-// v(0..length-1) of one experiment of one scheme, from the estimator's own generator (est::ExcitationGenerator, the
-// one the firmware runs): (3.4)/(4.1) for the step experiments, (3.1)/(4.2) with the schedule (3.25) for the pulses.
-// The generator at the host's capacity, with the scenario's n and m (kMinOrder..kMaxOrder, kMinPoints..kMaxPoints).
-std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
-                               std::int64_t length) {
+// The estimator's own excitation generator (est::ExcitationGenerator, the one the firmware runs) for one scheme of
+// the config: (3.4)/(4.1) for the step experiments, (3.1)/(4.2) with the schedule (3.25) for the pulses. The
+// generator at the host's capacity, with the scenario's n and m (kMinOrder..kMaxOrder, kMinPoints..kMaxPoints).
+using Generator = est::ExcitationGenerator<double, kMaxOrder, kMaxPoints>;
+
+Generator excitation_generator(const ExperimentConfig& c, est::Scheme scheme) {
   if (c.n < kMinOrder || c.n > kMaxOrder) {
     throw std::invalid_argument(fmt::format("n = {} is outside [{}, {}]", c.n, kMinOrder, kMaxOrder));
   }
   if (c.m < kMinPoints || c.m > kMaxPoints) {
     throw std::invalid_argument(fmt::format("m = {} is outside [{}, {}]", c.m, kMinPoints, kMaxPoints));
   }
-  const est::ExcitationGenerator<double, kMaxOrder, kMaxPoints> generator(
-      experiment_design<double, kMaxPoints>(c, scheme), c.n);
+  return Generator(experiment_design<double, kMaxPoints>(c, scheme), c.n);
+}
+
+double excitation_at(const Generator& generator, Experiment experiment, std::int64_t t) {
+  return experiment == Experiment::kStep ? generator.step_input(t) : generator.pulse_input(t);
+}
+
+// v(0..length-1) of one experiment of one scheme (excitation_generator).
+std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Experiment experiment,
+                               std::int64_t length) {
+  const Generator generator = excitation_generator(c, scheme);
   std::vector<double> v(static_cast<std::size_t>(length));
-  for (std::int64_t t = 0; t < length; ++t) {
-    v[static_cast<std::size_t>(t)] = experiment == Experiment::kStep ? generator.step_input(t)
-                                                                      : generator.pulse_input(t);
-  }
+  for (std::int64_t t = 0; t < length; ++t) v[static_cast<std::size_t>(t)] = excitation_at(generator, experiment, t);
   return v;
 }
+
+// validation_input() one sample at a time: random levels in [v_min, v_max] held for 1..20 samples.
+class ValidationSource {
+ public:
+  ValidationSource(double v_min, double v_max, std::uint64_t seed)
+      : v_min_(v_min), v_max_(v_max), draw_(seed ^ 0x9e3779b97f4a7c15ULL) {}
+  double next() {
+    if (left_ == 0) {
+      level_ = draw_.uniform(v_min_, v_max_);
+      left_ = draw_.integer(1, 20);
+    }
+    --left_;
+    return level_;
+  }
+
+ private:
+  double v_min_, v_max_;
+  Draw draw_;
+  double level_ = 0;
+  int left_ = 0;
+};
 
 }  // namespace
 
@@ -126,14 +155,9 @@ ExperimentConfig config_with_lengths(const Scenario& scenario) {
 }
 
 std::vector<double> validation_input(double v_min, double v_max, int length, std::uint64_t seed) {
-  Draw draw(seed ^ 0x9e3779b97f4a7c15ULL);
-  std::vector<double> v;
-  v.reserve(static_cast<std::size_t>(length));
-  while (static_cast<int>(v.size()) < length) {
-    const double level = draw.uniform(v_min, v_max);
-    const int hold = draw.integer(1, 20);
-    for (int k = 0; k < hold && static_cast<int>(v.size()) < length; ++k) v.push_back(level);
-  }
+  ValidationSource source(v_min, v_max, seed);
+  std::vector<double> v(static_cast<std::size_t>(std::max(length, 0)));
+  for (double& x : v) x = source.next();
   return v;
 }
 
@@ -146,22 +170,38 @@ ScenarioPlant::ScenarioPlant(const Scenario& scenario, std::uint64_t seed, doubl
 double ScenarioPlant::step(double v) { return plant_.step(operator_->step(v)); }
 
 Recording simulate(const Scenario& scenario, const SimulationOptions& options) {
+  Recording rec;
+  stream_simulation(scenario, options, [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); });
+  return rec;
+}
+
+void stream_simulation(const Scenario& scenario, const SimulationOptions& options, const SampleSink& sink) {
   ScenarioPlant plant(scenario, options.seed, options.input_lag);
   const PhaseLengths lengths{scenario.step_length_d, scenario.pulse_length_d, scenario.step_length_a,
                              scenario.pulse_length_a, scenario.validation_length};
-  return simulate_phases(scenario.config, lengths, options, [&plant](double v) { return plant.step(v); });
+  stream_phases(scenario.config, lengths, options, [&plant](double v) { return plant.step(v); }, sink);
 }
 
 Recording simulate_phases(const ExperimentConfig& c, const PhaseLengths& lengths, const SimulationOptions& options,
                           const std::function<double(double)>& plant) {
   Recording rec;
-  const auto run = [&](Phase phase, const std::vector<double>& input) {
-    for (const double v : input) rec.append(phase, v, plant(v));
-  };
+  stream_phases(c, lengths, options, plant, [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); });
+  return rec;
+}
+
+void stream_phases(const ExperimentConfig& c, const PhaseLengths& lengths, const SimulationOptions& options,
+                   const std::function<double(double)>& plant, const SampleSink& sink) {
   const auto scheme_phases = [&](est::Scheme scheme, Phase step, std::int64_t step_length, Phase pulse,
                                   std::int64_t pulse_length) {
-    run(step, excitation(c, scheme, Experiment::kStep, step_length + 1));
-    run(pulse, excitation(c, scheme, Experiment::kPulse, pulse_length));
+    const Generator generator = excitation_generator(c, scheme);
+    for (std::int64_t t = 0; t <= step_length; ++t) {
+      const double v = excitation_at(generator, Experiment::kStep, t);
+      sink(step, v, plant(v));
+    }
+    for (std::int64_t t = 0; t < pulse_length; ++t) {
+      const double v = excitation_at(generator, Experiment::kPulse, t);
+      sink(pulse, v, plant(v));
+    }
   };
   if (options.dis_phases) {
     scheme_phases(est::Scheme::kDescending, Phase::kStepD, lengths.step_d, Phase::kDis, lengths.pulse_d);
@@ -169,12 +209,16 @@ Recording simulate_phases(const ExperimentConfig& c, const PhaseLengths& lengths
   if (options.ais_phases) {
     scheme_phases(est::Scheme::kAscending, Phase::kStepA, lengths.step_a, Phase::kAis, lengths.pulse_a);
   }
-  if (options.validation_phase) {
-    run(Phase::kVal, options.validation_input.empty()
-                         ? validation_input(c.v_min, c.v_max, lengths.validation, options.seed)
-                         : options.validation_input);
+  if (!options.validation_phase) return;
+  if (!options.validation_input.empty()) {
+    for (const double v : options.validation_input) sink(Phase::kVal, v, plant(v));
+    return;
   }
-  return rec;
+  ValidationSource source(c.v_min, c.v_max, options.seed);
+  for (int t = 0; t < lengths.validation; ++t) {
+    const double v = source.next();
+    sink(Phase::kVal, v, plant(v));
+  }
 }
 
 Truth scenario_truth(const Scenario& scenario) {

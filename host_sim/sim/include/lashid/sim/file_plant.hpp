@@ -15,6 +15,7 @@
 #include "lashid/io/recording.hpp"
 #include "lashid/plant/linear_plant.hpp"
 #include "lashid/plant/operators.hpp"
+#include "lashid/sim/scenario.hpp"
 
 namespace lashid::sim {
 
@@ -44,5 +45,11 @@ class FilePlant {
 /// [v_min, v_max].
 Recording simulate_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
                               const fw::RunDesign& design, std::uint64_t seed);
+
+/// simulate_file_plant() streamed: each sample goes to `sink` as it is simulated, the validation input drawn from the
+/// device's generator sample by sample, so memory does not grow with the design's lengths. The same samples in the
+/// same order.
+void stream_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
+                       const fw::RunDesign& design, std::uint64_t seed, const SampleSink& sink);
 
 }  // namespace lashid::sim

@@ -80,6 +80,19 @@ struct PhaseLengths {
 Recording simulate_phases(const ExperimentConfig& config, const PhaseLengths& lengths,
                           const SimulationOptions& options, const std::function<double(double)>& plant);
 
+/// Receives each simulated sample as it is made, in recording order: its phase, v and y.
+using SampleSink = std::function<void(Phase phase, double v, double y)>;
+
+/// simulate_phases() without the recording: each sample goes to `sink` as it is simulated, and every input is
+/// generated sample by sample (the excitation by its index, the validation input by a running generator), so the
+/// memory used does not grow with the lengths (`lashid simulate` streams a design of 2^31 validation samples to its
+/// file). The samples are those simulate_phases() records, in the same order.
+void stream_phases(const ExperimentConfig& config, const PhaseLengths& lengths, const SimulationOptions& options,
+                   const std::function<double(double)>& plant, const SampleSink& sink);
+
+/// simulate() streamed to `sink` (stream_phases on the scenario's plant).
+void stream_simulation(const Scenario& scenario, const SimulationOptions& options, const SampleSink& sink);
+
 /// The true parameters in the scaling of (3.11c), obtained by replaying the experiments' inputs on the scenario's
 /// operator alone (from its initial state): u at the held level after the step (u_M for (3.4), u_m for (4.1)) and
 /// u at each pulse of the second period (F^d(V_j) of (3.2), F^a(V_j)); ybar0 = B(1) u_held / A(1). If the borders
