@@ -155,6 +155,36 @@ TEST_F(Cli, FloatEstimatesMatchDouble) {
   }
 }
 
+// Noise-free data still leave a residual: the recording does not fit the model exactly (the double run's residual
+// variance is about 4e-5 on dis_paper), and float32 adds its rounding. The float32 estimator's sum of squares
+// cancelled to 0 (clamped) and its standard errors with it; the host computes it from the residuals
+// (docs/data-format.md). Each must be within a factor 2 of the double run's.
+TEST_F(Cli, FloatResidualVarianceOfNoiseFreeDataIsNotZero) {
+  const Outcome sim = run({"simulate", "--scenario", "dis_paper", "--noise-variance", "0", "--seed", "1", "--out",
+                           "rec.csv", "--config-out", "cfg.json"});
+  ASSERT_EQ(sim.exit_code, 0) << sim;
+  const Outcome d = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "double.json"});
+  ASSERT_EQ(d.exit_code, 0) << d;
+  const Outcome f = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "float.json", "--float"});
+  ASSERT_EQ(f.exit_code, 0) << f;
+  EXPECT_FALSE(Contains(f.out, "residual variance 0,")) << f;
+  const json in_double = read_json("double.json");
+  const json in_float = read_json("float.json");
+  for (const char* scheme : {"dis", "ais"}) {
+    const double v_double = in_double[scheme]["noise_variance"].get<double>();
+    const double v_float = in_float[scheme]["noise_variance"].get<double>();
+    EXPECT_GT(v_double, 0.0) << scheme;
+    EXPECT_GT(v_float, 0.5 * v_double) << scheme;
+    EXPECT_LT(v_float, 2.0 * v_double) << scheme;
+    for (std::size_t k = 0; k < in_float[scheme]["theta_std_error"].size(); ++k) {
+      const double se_double = in_double[scheme]["theta_std_error"][k].get<double>();
+      const double se_float = in_float[scheme]["theta_std_error"][k].get<double>();
+      EXPECT_GT(se_float, 0.5 * se_double) << scheme << " se " << k;
+      EXPECT_LT(se_float, 2.0 * se_double) << scheme << " se " << k;
+    }
+  }
+}
+
 TEST_F(Cli, SimulateWritesNeitherFileWhenOneCannotBeWritten) {
   // The recording's directory does not exist: the config must not be left behind alone.
   const Outcome r = run({"simulate", "--scenario", "dis_paper", "--out", "nodir/rec.csv", "--config-out", "cfg.json"});

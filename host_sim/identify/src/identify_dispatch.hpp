@@ -18,6 +18,7 @@
 #include "lashid/estimator/identifier.hpp"
 #include "lashid/identify/identify.hpp"
 #include "lashid/io/compiled_design.hpp"
+#include "identify_residual.hpp"
 
 namespace lashid::sim::detail {
 
@@ -135,6 +136,28 @@ SchemeResult run(const ExperimentConfig& config, const Recording& recording, est
   r.step_samples = id.step_samples();
   r.pulse_samples = id.pulse_samples();
   r.out_of_sensor_range = out_of_range;
+  if constexpr (std::is_same_v<Scalar, float>) {
+    // The float32 residual sum cancels (identify_residual.hpp): the variance from the residuals themselves, and the
+    // standard errors, proportional to its square root, with it.
+    const DirectResidual direct = direct_residual<Scalar, kMaxOrder, kMaxPoints>(
+        design, n, id.step_mean().mean(), r.theta, recording.phase(pulse_phase), range_lo, range_hi);
+    const auto dim = static_cast<std::uint32_t>(n + n * m);
+    if (r.status == est::Status::kOk && direct.rows == r.rows && direct.rows > dim) {
+      const double variance = direct.sum_of_squares / static_cast<double>(direct.rows - dim);
+      if (r.noise_variance > 0) {
+        for (double& se : r.theta_std_error) se *= std::sqrt(variance / r.noise_variance);
+      } else {
+        // Cancelled to 0, and the standard errors with it: their factors sqrt(diag) are the double run's.
+        const SchemeResult reference = run<double>(config, recording, scheme, data_name, leave_out_unusable_y);
+        if (reference.status == est::Status::kOk && reference.noise_variance > 0) {
+          for (std::size_t k = 0; k < r.theta_std_error.size(); ++k) {
+            r.theta_std_error[k] = reference.theta_std_error[k] * std::sqrt(variance / reference.noise_variance);
+          }
+        }
+      }
+      r.noise_variance = variance;
+    }
+  }
   return r;
 }
 
