@@ -183,6 +183,35 @@ TEST_F(CliDesign, RefusesBadOptionsNamingTheRuleAndWritesNothing) {
   EXPECT_TRUE(Contains(both.err, "--check excludes --n")) << both;
 }
 
+// A length or seed beyond 64 bits is quoted as typed: CLI11 clamped 2^64 - 1 to int64's end, and the message quoted
+// that stand-in (`--step-length = 9223372036854775807 is too large`). The value within 64 bits is still judged by
+// the reader's rule, as above.
+TEST_F(CliDesign, AValueBeyond64BitsIsQuotedAsTyped) {
+  for (const auto& [option, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--step-length", "--step-length: 18446744073709551615 is too large (at most 2147483647)"},
+           {"--pulse-length", "--pulse-length: 18446744073709551615 is too large (at most 268435456)"},
+           {"--val-length", "--val-length: 18446744073709551615 is too large (at most 2147483647)"},
+           {"--val-seed", "--val-seed: 18446744073709551615 is too large (at most 4294967295)"}}) {
+    for (const std::string value : {"18446744073709551615", "-18446744073709551615"}) {
+      const Outcome r = design({"--n", "2", "--m", "6", "--v-min", "-3", "--v-max", "4", "--operator", "switch",
+                                option, value, "--out", "cfg.json"});
+      EXPECT_GE(r.exit_code, 100) << r;
+      EXPECT_TRUE(Contains(r.err, value[0] == '-' ? option + ": " + value + " must not be negative" : message)) << r;
+      EXPECT_FALSE(Contains(r.err, "922337203685477580")) << r;  // int64's ends, which the user did not type
+      EXPECT_FALSE(fs::exists(work_ / "cfg.json")) << option;
+    }
+  }
+  // m and n are quoted as typed too (CLI11's own words), and in a config file by the reader.
+  const Outcome m = design({"--n", "2", "--m", "18446744073709551615", "--v-min", "-3", "--v-max", "4", "--operator",
+                            "switch", "--out", "cfg.json"});
+  EXPECT_GE(m.exit_code, 100) << m;
+  EXPECT_TRUE(Contains(m.err, "--m = 18446744073709551615")) << m;
+  const Outcome check = design({"--check", config_with("m", 18446744073709551615ULL)});
+  EXPECT_EQ(check.exit_code, 1) << check;
+  EXPECT_TRUE(Contains(check.err, "'m' = 18446744073709551615 is outside")) << check;
+  EXPECT_FALSE(Contains(check.err, "4294967296")) << check;
+}
+
 TEST_F(CliDesign, CheckNamesTheKeyAndRule) {
   const Outcome pulse = design({"--check", config_with("pulse_length_a", 35)});
   EXPECT_EQ(pulse.exit_code, 1) << pulse;

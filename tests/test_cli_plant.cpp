@@ -154,6 +154,56 @@ TEST_F(CliPlant, SimulateStreamsALongRecordingInBoundedMemory) {
   EXPECT_EQ(files_below(work_), (std::set<std::string>{"cfg.json", "plant.json", "rec.csv"}));  // no temporary
 }
 
+// A flat border (F(V_j) equal to the output at the held level: the pulses move nothing) gets the estimator's status
+// "ok", a solution exists; the report says the border is not identified (docs/data-format.md: the largest
+// |mu_ij| / se against the Bonferroni bound at 1 %), in words and in the JSON. The plant of the other tests, whose
+// border is not flat, gets no warning.
+TEST_F(CliPlant, AFlatBorderIsReportedAsNotIdentified) {
+  json flat = plant();
+  flat["borders"]["ascending"] = {0.5, 0.5};
+  flat["borders"]["descending"] = {0.5, 0.5};
+  write("flat.json", flat);
+  write("plant.json", plant());
+  write("cfg.json", config());
+  for (const auto& [file, expect_flat] : {std::pair{"flat.json", true}, {"plant.json", false}}) {
+    const Outcome sim = run({"simulate", "--plant", file, "--config", "cfg.json", "--seed", "1", "--out", "rec.csv"});
+    ASSERT_EQ(sim.exit_code, 0) << sim;
+    const Outcome id = run({"identify", "--config", "cfg.json", "--data", "rec.csv", "--json", "est.json"});
+    ASSERT_EQ(id.exit_code, 0) << id;  // the least squares has a solution: not a failed scheme
+    const json est = json::parse(slurp(work_ / "est.json"));
+    for (const char* scheme : {"dis", "ais"}) {
+      const json& e = est.at(scheme);
+      EXPECT_EQ(e.at("status"), "ok");
+      EXPECT_EQ(e.at("border_check").at("flat").get<bool>(), expect_flat) << file << " " << scheme << "\n" << e;
+      EXPECT_EQ(e.at("warnings"), expect_flat ? json::array({"border_not_distinguishable_from_flat"}) : json::array())
+          << file << " " << scheme;
+      // n = 1, m = 2: z* = Phi^-1(1 - 0.01 / 4) = 2.807.
+      EXPECT_NEAR(e.at("border_check").at("threshold").get<double>(), 2.807, 1e-3);
+    }
+    EXPECT_EQ(Contains(id.out, "WARNING: border not identified"), expect_flat) << id;
+  }
+}
+
+// On an interval far from 0 the levels differ in the 7th digit or beyond: each F(V_j) label gets the digits that
+// tell it apart from the others (with 6 digits, {:g}, every label read F(1e+06)).
+TEST_F(CliPlant, BorderLabelsTellCloseLevelsApart) {
+  json far = plant();
+  far["borders"] = {{"v", {1e6, 1e6 + 1}}, {"ascending", {-1.5, 0.5}}, {"descending", {-0.5, 1.5}}};
+  write("plant.json", far);
+  const Outcome d = run({"design", "--n", "1", "--m", "3", "--v-min", "1000000", "--v-max", "1000001", "--operator",
+                         "switch", "--out", "cfg.json"});
+  ASSERT_EQ(d.exit_code, 0) << d;
+  const Outcome sim = run({"simulate", "--plant", "plant.json", "--config", "cfg.json", "--out", "rec.csv"});
+  ASSERT_EQ(sim.exit_code, 0) << sim;
+  const Outcome id = run({"identify", "--config", "cfg.json", "--data", "rec.csv"});
+  ASSERT_EQ(id.exit_code, 0) << id;
+  // V_d = 1e6, 1e6 + 1/3, 1e6 + 2/3; V_a = 1e6 + 1, 1e6 + 2/3, 1e6 + 1/3: 8 digits tell them apart.
+  for (const char* label : {"F(1000000)", "F(1000000.3)", "F(1000000.7)", "F(1000001)"}) {
+    EXPECT_TRUE(Contains(id.out, std::string(label) + " ")) << label << "\n" << id;
+  }
+  EXPECT_FALSE(Contains(id.out, "F(1e+06)")) << id;
+}
+
 TEST_F(CliPlant, AMalformedPlantFileIsNamedWithItsKeyAndNothingIsWritten) {
   json bad = plant();
   bad["sensor_noise"] = {{"std", 0.1}, {"pole", 1.2}};

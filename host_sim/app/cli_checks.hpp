@@ -34,6 +34,21 @@ inline const CLI::Validator kNonNegativeSeed(
     },
     "NONNEGATIVE");
 
+// A 64-bit integer option whose value lies beyond int64: CLI11 clamps it to the type's end without a word, and the
+// option's own check then quoted the clamped number (`--step-length 18446744073709551615` was said as
+// 9223372036854775807). Refused here quoting the value as typed; `max` is the option's own largest value.
+inline CLI::Validator int64_as_typed(std::int64_t max) {
+  return CLI::Validator(
+      [max](const std::string& value) {
+        std::int64_t number = 0;
+        const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
+        if (error != std::errc::result_out_of_range) return std::string();  // in range, or CLI11's own error
+        return value.starts_with('-') ? fmt::format("{} must not be negative", value)
+                                      : fmt::format("{} is too large (at most {})", value, max);
+      },
+      "INT64");
+}
+
 // CLI11's number checks (Range, NonNegativeNumber, ...) compare, and every comparison with NaN is false: "nan"
 // passed them and reached the code as a value. Every floating-point option therefore also gets this check.
 inline const CLI::Validator kFinite(

@@ -21,6 +21,7 @@
 #include "lashid/io/json.hpp"
 #include "lashid/io/plant_file.hpp"
 #include "lashid/report/json.hpp"
+#include "lashid/report/report.hpp"
 #include "lashid/sim/scenario.hpp"
 #include "hil_references.hpp"
 #include "plant_notes.hpp"
@@ -58,8 +59,9 @@ void print_estimate(const fw::EstimateRecord& e, const ExperimentConfig& config)
     fmt::print("    {:<10}{:>11.5g}{:>11.2g}{}\n", fmt::format("b{}", i + 1), e.b[i], e.se_b[i],
                cell(truth ? &truth->b : nullptr, i));
   }
+  const std::vector<std::string> labels = lashid::report::level_labels(V);  // as many digits as tell them apart
   for (std::size_t j = 0; j < e.m && j < V.size(); ++j) {
-    fmt::print("    {:<10}{:>11.5g}{:>11}{}\n", fmt::format("F({:g})", V[j]), e.F[j], "",
+    fmt::print("    {:<10}{:>11.5g}{:>11}{}\n", labels[j], e.F[j], "",
                cell(truth ? (dis ? &truth->F_d : &truth->F_a) : nullptr, j));
   }
 }

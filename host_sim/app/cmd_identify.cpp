@@ -54,7 +54,7 @@ int run_identify(const IdentifyArgs& args) {
     }
     report::print_scheme_result(config, r);
     if (r.status != est::Status::kOk) exit_code = 2;
-    out[dis ? "dis" : "ais"] = to_json(r);
+    out[dis ? "dis" : "ais"] = to_json(r, config);
   }
   if (!args.json_out.empty()) write_json_file(args.json_out, out);
   return exit_code;

@@ -21,6 +21,7 @@
 
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "lashid/estimator/design.hpp"
 #include "lashid/hil/hil.hpp"
 #include "output_paths.hpp"
 
@@ -309,12 +310,14 @@ CLI::App* add_design(CLI::App& app, DesignArgs& args) {
                       "K evenly spaced levels from v_min to v_max, both included (K >= m + 1; default m + 1): V_d "
                       "= the m lowest, V_a = the m highest"),
       cmd->add_option("--step-length", args.step_length, "L: each step experiment has L + 1 samples (L > n)")
-          ->capture_default_str(),
+          ->check(int64_as_typed(std::numeric_limits<int>::max()))->capture_default_str(),
       cmd->add_option("--pulse-length", args.pulse_length,
-                      "N of both pulse experiments, >= 2T (default: the first whole number of periods >= 2000)"),
-      cmd->add_option("--val-length", args.val_length, "Samples of the validation phase")->capture_default_str(),
+                      "N of both pulse experiments, >= 2T (default: the first whole number of periods >= 2000)")
+          ->check(int64_as_typed(lashid::est::kMaxPulseLength)),
+      cmd->add_option("--val-length", args.val_length, "Samples of the validation phase")
+          ->check(int64_as_typed(std::numeric_limits<int>::max()))->capture_default_str(),
       cmd->add_option("--val-seed", args.val_seed, "Seed of the validation excitation (unsigned 32-bit)")
-          ->capture_default_str(),
+          ->check(int64_as_typed(std::numeric_limits<std::uint32_t>::max()))->capture_default_str(),
       cmd->add_option("--out", args.out, "Config to write (JSON)")};
   for (CLI::Option* option : design_options) check->excludes(option);
   // Writing needs the design; checking needs only the file.

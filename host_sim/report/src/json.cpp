@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "lashid/report/border_check.hpp"
+
 namespace lashid::sim {
 
 nlohmann::json to_json(const SchemeResult& r) {
@@ -25,6 +27,24 @@ nlohmann::json to_json(const SchemeResult& r) {
       out[key] = nullptr;
     }
   }
+  return out;
+}
+
+nlohmann::json to_json(const SchemeResult& r, const ExperimentConfig& config) {
+  nlohmann::json out = to_json(r);
+  // The status is the least squares' (a solution exists); whether the pulses moved the output at all is this test
+  // (border_check.hpp, docs/data-format.md), with its warnings by name.
+  const report::BorderCheck check = report::check_border(config, r);
+  nlohmann::json warnings = nlohmann::json::array();
+  if (check.applicable) {
+    // max_z is infinite (null in JSON) for a noise-free fit whose groups differ.
+    out["border_check"] = {{"alpha", report::kFlatBorderAlpha},
+                           {"max_z", check.max_z},
+                           {"threshold", check.threshold},
+                           {"flat", check.flat}};
+    if (check.flat) warnings.push_back("border_not_distinguishable_from_flat");
+  }
+  out["warnings"] = std::move(warnings);
   return out;
 }
 

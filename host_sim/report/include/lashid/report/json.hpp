@@ -13,6 +13,8 @@ namespace lashid::sim {
 
 /// {"a":[...],"b":[...],"F":[...],"theta":[...], ...diagnostics} as in docs/data-format.md.
 nlohmann::json to_json(const SchemeResult& result);
+/// The same with `border_check` and `warnings` (border_check.hpp): what `lashid identify --json` writes.
+nlohmann::json to_json(const SchemeResult& result, const ExperimentConfig& config);
 /// Only the parameter of the cause, e.g. {"lambda": 0.31}; {} for none.
 nlohmann::json to_json(const CauseParameters& parameters);
 nlohmann::json to_json(const JointModel& model);
