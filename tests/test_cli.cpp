@@ -55,6 +55,13 @@ TEST_F(Cli, HelpListsSubcommandsAndTheirOptions) {
   }
 }
 
+// The version is the project's (CMakeLists.txt's project(VERSION)), as the package and the .deb name it.
+TEST_F(Cli, VersionIsTheProjects) {
+  const Outcome r = run({"--version"});
+  ASSERT_EQ(r.exit_code, 0) << r;
+  EXPECT_EQ(r.out, std::string("lashid ") + LASHID_PROJECT_VERSION + "\n");
+}
+
 TEST_F(Cli, NoSubcommandOrUnknownOptionFails) {
   const Outcome none = run({});
   EXPECT_NE(none.exit_code, 0) << none;

@@ -23,7 +23,7 @@ int run_diagnose(const DiagnoseArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
   // As identify reads it: a float32 device's levels (lashid hil --record) given back as the config's.
   const Recording rec = read_recording_for(config, args.data);
-  for (const std::string& note : phase_length_notes(config, rec, args.data)) fmt::print(stderr, "note: {}\n", note);
+  for (const std::string& note : phase_length_notes(config, rec, args.data)) fmt::print(stderr, "lashid: note: {}\n", note);
   if (config.sensor_range) {
     // The DIS/AIS estimates leave these out as the device does (identify); the joint model cannot leave a sample
     // out of a simulation, so it fits them: said, so that a clipped sensor is not taken for a cause.
@@ -33,7 +33,7 @@ int run_diagnose(const DiagnoseArgs& args) {
       for (const Sample& x : rec.phase(p)) outside += x.y < lo || x.y > hi ? 1U : 0U;
     }
     if (outside > 0) {
-      fmt::print(stderr, "note: {}: {} samples lie outside the config's sensor_range [{:g}, {:g}]: the DIS/AIS "
+      fmt::print(stderr, "lashid: note: {}: {} samples lie outside the config's sensor_range [{:g}, {:g}]: the DIS/AIS "
                          "estimates leave them out, the joint model of the diagnosis fits them\n",
                  args.data, outside, lo, hi);
     }

@@ -24,7 +24,7 @@ int run_identify(const IdentifyArgs& args) {
   const ExperimentConfig config = read_config_json(args.config);
   // A float32 device's recording (lashid hil --record) holds float(V_j): the estimator is given the levels.
   const Recording rec = read_recording_for(config, args.data);
-  for (const std::string& note : phase_length_notes(config, rec, args.data)) fmt::print(stderr, "note: {}\n", note);
+  for (const std::string& note : phase_length_notes(config, rec, args.data)) fmt::print(stderr, "lashid: note: {}\n", note);
   IdentifyOptions options;
   options.precision = args.use_float ? Precision::kFloat : Precision::kDouble;
 
@@ -47,7 +47,7 @@ int run_identify(const IdentifyArgs& args) {
   for (const SchemeResult& r : results) {
     const bool dis = r.scheme == est::Scheme::kDescending;
     if (r.out_of_sensor_range > 0) {
-      fmt::print(stderr, "note: {}: {} sample{} outside the config's sensor_range [{:g}, {:g}] left out, with the rows "
+      fmt::print(stderr, "lashid: note: {}: {} sample{} outside the config's sensor_range [{:g}, {:g}] left out, with the rows "
                          "that lag them, as the device leaves them out\n",
                  dis ? "DIS" : "AIS", r.out_of_sensor_range, r.out_of_sensor_range > 1 ? "s" : "",
                  (*config.sensor_range)[0], (*config.sensor_range)[1]);

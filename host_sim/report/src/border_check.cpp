@@ -56,8 +56,8 @@ std::string border_warning(const BorderCheck& c) {
   if (!c.flat) return {};
   return fmt::format("WARNING: border not identified: no pulse moved the output distinguishably from the others "
                      "(largest z = {:.3g}, at most {:.3g}: the bound a flat border stays under with probability "
-                     "{:g} %); F(V_j) is not distinguishable from a border constant over the levels, and b and F are "
-                     "noise (docs/data-format.md)",
+                     "{:g} %); F(V_j) is not distinguishable from a border constant over the levels: if it is also "
+                     "flat at the held level, nothing was excited and b and F are noise (docs/data-format.md)",
                      c.max_z, c.threshold, 100.0 * (1.0 - kFlatBorderAlpha));
 }
 
