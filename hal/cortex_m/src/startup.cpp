@@ -199,7 +199,11 @@ extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::ui
   const std::uintptr_t mmfar = reg(kMmfar);
   const bool into_guard = (cfsr & kCfsrMmarValid) != 0U && mmfar >= reinterpret_cast<std::uintptr_t>(__stack_guard) &&
                           mmfar < reinterpret_cast<std::uintptr_t>(__stack_limit);
-  if (frame == nullptr || into_guard) {
+  // 1: the stack pointer was above the stack (HardFault_Handler), so there is no frame to read.
+  const bool corrupted = reinterpret_cast<std::uintptr_t>(frame) == 1U;
+  if (corrupted) {
+    say("\nlashid: HardFault: the stack pointer was above the stack (corrupted): no frame read; cfsr=");
+  } else if (frame == nullptr || into_guard) {
     say(frame == nullptr ? "\nlashid: HardFault: stack overflow (the stack pointer went below __stack_limit, "
                          : "\nlashid: HardFault: stack overflow (an access to the guard under the stack, ");
     Text<12> size;
@@ -227,7 +231,7 @@ extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::ui
   }
   say("\n");
   if ((cfsr & kCfsrNoCp) != 0U) say("lashid: UsageFault NOCP: coprocessor (FPU) access while disabled\n");
-  semihosting::exit(frame == nullptr || into_guard ? kExitStackOverflow : kExitHardFault);
+  semihosting::exit(!corrupted && (frame == nullptr || into_guard) ? kExitStackOverflow : kExitHardFault);
 }
 
 // The fault stack: HardFault and NMI never run their report on the stack they interrupted, which may be within a few
@@ -236,8 +240,9 @@ extern "C" [[noreturn, gnu::used]] void lashid_cortex_m_hard_fault(const std::ui
 // in the guard: no one else can have written it (the MPU denies every access there, but to HardFault and NMI, which
 // run with the MPU off: HFNMIENA = 0), and these handlers never return, so nothing of it has to survive. Without an
 // MPU the guard is plain RAM, which an overflow may have written: the report does not read it. The faulting stack is
-// only read, for the frame, and only when its stack pointer is within the stack ([__stack_limit, __stack_top)): below
-// it the frame was not stacked (the overflow), and the report says "stack overflow". Only MSP is used by this
+// only read, for the frame, and only when its stack pointer is within the stack ([__stack_limit, __stack_top - 32]):
+// below it the frame was not stacked (the overflow), and the report says "stack overflow"; above it the stack pointer
+// was corrupted (reading there could fault again, a lockup), and the report says so. Only MSP is used by this
 // platform (no thread stack); a frame on PSP is read the same way.
 extern "C" [[gnu::naked]] void HardFault_Handler() {
   __asm__ volatile(
@@ -250,6 +255,10 @@ extern "C" [[gnu::naked]] void HardFault_Handler() {
       "cmp r0, r1\n\t"
       "it lo\n\t"
       "movlo r0, #0\n\t"  // below the stack: no frame
+      "ldr r1, =__stack_top - 32\n\t"
+      "cmp r0, r1\n\t"
+      "it hi\n\t"
+      "movhi r0, #1\n\t"  // no whole frame below the top (a corrupted stack pointer): not read either
       "b lashid_cortex_m_hard_fault\n\t"
       ".ltorg\n\t");
 }
