@@ -15,6 +15,7 @@
 #include "lashid/io/data_error.hpp"
 #include "lashid/io/files.hpp"
 #include "lashid/io/plant_file.hpp"
+#include "lashid/io/stop_signals.hpp"
 #include "lashid/report/json.hpp"
 #include "lashid/sim/file_plant.hpp"
 #include "lashid/sim/scenario.hpp"
@@ -40,6 +41,7 @@ class StreamedRecording {
   // A plant whose values make its output overflow (a drift of 1e308 per sample, a huge gain) is the plant's fault,
   // not the output file's: said naming `culprit`, and the temporary file is removed (nothing written).
   void append(Phase phase, double v, double y, const std::string& culprit) {
+    throw_if_stopped("simulate");  // the temporary file is removed on the way out (a stop signal: StopSignals)
     std::size_t& t = count_[phase_index(phase)];
     if (!std::isfinite(y)) {
       throw DataError(culprit, fmt::format("the plant's output is not finite at phase {} t = {} (y = {}): its "
@@ -72,6 +74,7 @@ int run_simulate_plant(const SimulateArgs& args) {
       fmt::format("L = {}, N_d = {}, N_a = {}; val: {} samples of the firmware's validation excitation, seed {}",
                   design.step_length, design.pulse_length_d, design.pulse_length_a, design.val_length,
                   design.val_seed)};
+  const StopSignals stop_signals;  // SIGINT and the like end the run through the removal of the temporary file
   StreamedRecording out(args.data_out, comments);
   stream_file_plant(spec, args.plant, config, design, args.seed,
                     [&](Phase phase, double v, double y) { out.append(phase, v, y, args.plant); });
@@ -98,6 +101,7 @@ int run_simulate(const SimulateArgs& args) {
   // A config that existed before is put back as it was (not deleted: it may be the user's only copy).
   check_can_write(args.data_out);
   if (!args.config_out.empty()) check_can_write(args.config_out);
+  const StopSignals stop_signals;  // SIGINT and the like end the run through the cleanup below
   std::optional<std::string> previous_config;
   if (!args.config_out.empty()) {
     if (std::filesystem::is_regular_file(args.config_out)) previous_config = read_file_text(args.config_out);

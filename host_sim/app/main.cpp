@@ -289,8 +289,8 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "lashid: error: out of memory: the input asks for more than this machine holds (a config's "
                        "lengths, e.g. val_length, or a recording's size)\n");
     return 1;
-  } catch (const lashid::sim::HilInterrupted& e) {
-    // A hil run the user stopped, cleaned up: 128 + the signal, as a shell reports a command a signal ended.
+  } catch (const lashid::sim::Interrupted& e) {
+    // A hil or simulate run the user stopped, cleaned up: 128 + the signal, as a shell reports a command a signal ended.
     std::fflush(stdout);
     fmt::print(stderr, "lashid: error: {}\n", e.what());
     return 128 + e.signal();

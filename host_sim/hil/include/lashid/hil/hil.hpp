@@ -14,6 +14,7 @@
 #include "lashid/firmware/messages.hpp"
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/hal/host_board.hpp"
+#include "lashid/io/stop_signals.hpp"
 #include "lashid/hil/any_plant.hpp"
 #include "lashid/hil/link_faults.hpp"
 #include "lashid/io/config.hpp"
@@ -106,13 +107,9 @@ fw::RunDesign run_design_of(const Scenario& scenario);
 /// run_hil stopped by SIGINT, SIGTERM or SIGHUP: QEMU was killed, the session's sockets removed, and the recording
 /// kept as after any early stop (marked partial; the message says where). signal(): the signal's number (the CLI
 /// exits with 128 + signal, as a shell reports a command a signal ended).
-class HilInterrupted : public std::runtime_error {
+class HilInterrupted : public Interrupted {
  public:
-  HilInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal_(signal) {}
-  int signal() const { return signal_; }
-
- private:
-  int signal_;
+  using Interrupted::Interrupted;
 };
 
 /// What can be known of an image before QEMU boots it: it exists, is an ARM ELF, is whole (not cut short), and was
