@@ -76,10 +76,12 @@ class LashidExeTest : public ::testing::Test {
     if (!HasFailure()) fs::remove_all(dir_);
   }
 
-  Outcome run(const std::vector<std::string>& args) const {
+  // `shell_before` runs in the shell first (e.g. "ulimit -v 1000 && ").
+  Outcome run(const std::vector<std::string>& args, std::string_view shell_before = {}) const {
     // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
     std::string command = "cd ";
-    command.append(shell_quote(work_.string())).append(" && exec ").append(shell_quote(LASHID_EXE));
+    command.append(shell_quote(work_.string())).append(" && ").append(shell_before).append("exec ");
+    command.append(shell_quote(LASHID_EXE));
     for (const auto& arg : args) command.append(" ").append(shell_quote(arg));
     command.append(" >").append(shell_quote((dir_ / "stdout.txt").string()));
     command.append(" 2>").append(shell_quote((dir_ / "stderr.txt").string())).append(" </dev/null");
