@@ -58,8 +58,7 @@ double FilePlant::step(double v) {
 Recording simulate_file_plant(const PlantSpec& spec, std::string_view plant_name, const ExperimentConfig& config,
                               const fw::RunDesign& design, std::uint64_t seed) {
   Recording rec;
-  stream_file_plant(spec, plant_name, config, design, seed,
-                    [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); });
+  stream_file_plant(spec, plant_name, config, design, seed, append_to(rec));
   return rec;
 }
 
@@ -74,7 +73,8 @@ void stream_file_plant(const PlantSpec& spec, std::string_view plant_name, const
   const PhaseLengths phases{step, static_cast<int>(design.pulse_length_d), step, static_cast<int>(design.pulse_length_a),
                             static_cast<int>(design.val_length)};
   stream_phases(config, phases, options, [&plant](double v) { return plant.step(v); }, sink);
-  // device_validation_input() one sample at a time: the float the device sends, widened to double.
+  // The device's validation input (its own generator, so that a recording simulated from a config and one recorded
+  // through the firmware apply the same input): the float the device sends, widened to double.
   fw::ValidationExcitation excitation(design);
   for (std::uint32_t t = 0; t < design.val_length; ++t) {
     const auto v = static_cast<double>(excitation.next());

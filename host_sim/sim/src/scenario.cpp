@@ -1,6 +1,5 @@
 #include "lashid/sim/scenario.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -104,7 +103,7 @@ std::vector<double> excitation(const ExperimentConfig& c, est::Scheme scheme, Ex
   return v;
 }
 
-// validation_input() one sample at a time: random levels in [v_min, v_max] held for 1..20 samples.
+// The simulator's validation input, one sample at a time: random levels in [v_min, v_max] held for 1..20 samples.
 class ValidationSource {
  public:
   ValidationSource(double v_min, double v_max, std::uint64_t seed)
@@ -154,11 +153,8 @@ ExperimentConfig config_with_lengths(const Scenario& scenario) {
   return config;
 }
 
-std::vector<double> validation_input(double v_min, double v_max, int length, std::uint64_t seed) {
-  ValidationSource source(v_min, v_max, seed);
-  std::vector<double> v(static_cast<std::size_t>(std::max(length, 0)));
-  for (double& x : v) x = source.next();
-  return v;
+SampleSink append_to(Recording& rec) {
+  return [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); };
 }
 
 ScenarioPlant::ScenarioPlant(const Scenario& scenario, std::uint64_t seed, double input_lag)
@@ -171,7 +167,7 @@ double ScenarioPlant::step(double v) { return plant_.step(operator_->step(v)); }
 
 Recording simulate(const Scenario& scenario, const SimulationOptions& options) {
   Recording rec;
-  stream_simulation(scenario, options, [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); });
+  stream_simulation(scenario, options, append_to(rec));
   return rec;
 }
 
@@ -185,7 +181,7 @@ void stream_simulation(const Scenario& scenario, const SimulationOptions& option
 Recording simulate_phases(const ExperimentConfig& c, const PhaseLengths& lengths, const SimulationOptions& options,
                           const std::function<double(double)>& plant) {
   Recording rec;
-  stream_phases(c, lengths, options, plant, [&rec](Phase phase, double v, double y) { rec.append(phase, v, y); });
+  stream_phases(c, lengths, options, plant, append_to(rec));
   return rec;
 }
 

@@ -44,7 +44,7 @@ struct SimulationOptions {
   bool dis_phases = true;      ///< simulate step_d and dis
   bool ais_phases = true;      ///< simulate step_a and ais
   bool validation_phase = true;
-  std::vector<double> validation_input;  ///< the val phase's input; empty: validation_input() of the scenario
+  std::vector<double> validation_input;  ///< the val phase's input; empty: the simulator's own (stream_phases)
 };
 
 /// The scenario's actuator and plant, one sample at a time: v(t) -> [input lag] -> operator -> linear block + noise
@@ -75,13 +75,16 @@ struct PhaseLengths {
 
 /// The five-phase driver behind simulate(): the phases of `options` with the design `config` on any plant,
 /// `plant(v)` returning y, called once per sample in recording order. The step and pulse inputs come from the
-/// estimator's excitation generator; val is options.validation_input, or validation_input(v_min, v_max,
-/// lengths.validation, options.seed) when that is empty. options.input_lag is the caller's business (the plant's).
+/// estimator's excitation generator; val is options.validation_input, or, when that is empty, lengths.validation
+/// samples of random levels in [v_min, v_max] held for 1..20 samples, drawn from options.seed. options.input_lag is the caller's business (the plant's).
 Recording simulate_phases(const ExperimentConfig& config, const PhaseLengths& lengths,
                           const SimulationOptions& options, const std::function<double(double)>& plant);
 
 /// Receives each simulated sample as it is made, in recording order: its phase, v and y.
 using SampleSink = std::function<void(Phase phase, double v, double y)>;
+
+/// A sink that appends every sample to `rec` (the streamed simulations' Recording-returning forms).
+SampleSink append_to(Recording& rec);
 
 /// simulate_phases() without the recording: each sample goes to `sink` as it is simulated, and every input is
 /// generated sample by sample (the excitation by its index, the validation input by a running generator), so the
@@ -102,11 +105,9 @@ Truth scenario_truth(const Scenario& scenario);
 /// The scenario's config with the lengths simulate() runs, so that a written config says what its recording holds:
 /// step_length (only when both step experiments have the same L, the config has one), pulse_length_d,
 /// pulse_length_a and val_length. val_seed stays absent: simulate() draws its validation input from its own seed
-/// with the simulator's generator (validation_input), not from a val_seed with the device's excitation.
+/// with the simulator's generator (simulate_phases), not from a val_seed with the device's excitation.
 ExperimentConfig config_with_lengths(const Scenario& scenario);
 
-/// Deterministic validation input: random levels in [v_min, v_max] held for 1..20 samples.
-std::vector<double> validation_input(double v_min, double v_max, int length, std::uint64_t seed);
 
 /// A DIS/AIS scenario whose actuator is `actuator` (any operator, e.g. a fitted FrictionGapOperator): the linear part
 /// of dis_paper before its scaling (A = 1 + q^-1 + 0.21 q^-2, B = q^-1 - 0.5 q^-2), white noise of variance
