@@ -144,4 +144,49 @@ TEST(RemotePlantPort, ANonFiniteMeasurementIsTheSensorsFaultNotTheLinks) {
   EXPECT_EQ(port.next_sample(), 1u);
 }
 
+TEST(RemotePlantPort, WaitsThroughTheChannelsIdleWhereItHasOne) {
+  // A channel with idle() (the images sleep there until an interrupt): the answer arrives only during an idle, as a
+  // byte that wakes a sleeping core. Each of the 3 silent reads before it must be followed by one idle(), and the
+  // answer then read in full. Without the idle() calls no answer comes: the clock (one tick per read) reaches the
+  // time limit and the port gives up with kSensorFault.
+  struct SleepyPeer {
+    hal::Status write(const std::uint8_t* data, std::size_t size) {
+      for (std::size_t i = 0; i < size; ++i) {
+        if (decoder.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
+        hal::link::PayloadWriter w;
+        w.u32(decoder.frame().reader().u32());
+        w.f32(0.5f);
+        answer_size = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), answer);
+      }
+      return hal::Status::kOk;
+    }
+    hal::Status read(std::uint8_t& byte) {
+      ++reads;
+      if (pending.empty()) return hal::Status::kWouldBlock;
+      byte = pending.front();
+      pending.pop_front();
+      return hal::Status::kOk;
+    }
+    void idle() {
+      ++idles;
+      if (idles == 3) pending.insert(pending.end(), answer, answer + answer_size);
+    }
+    std::uint32_t cycles() const { return static_cast<std::uint32_t>(reads); }
+    hal::link::FrameDecoder decoder;
+    std::uint8_t answer[hal::link::kMaxFrame] = {};
+    std::size_t answer_size = 0;
+    std::deque<std::uint8_t> pending;
+    int reads = 0;
+    int idles = 0;
+  } peer;
+  hal::RemotePlantPort<SleepyPeer> port(peer, 100, 3);
+  ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
+  float y = 0;
+  ASSERT_EQ(port.measure(y), hal::Status::kOk);
+  EXPECT_EQ(y, 0.5f);
+  EXPECT_EQ(peer.idles, 3);
+  EXPECT_EQ(peer.reads, 3 + static_cast<int>(peer.answer_size));
+  EXPECT_EQ(port.retries(), 0u);
+}
+
 }  // namespace

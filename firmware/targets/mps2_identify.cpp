@@ -16,8 +16,6 @@ namespace {
 using namespace lashid;
 namespace mps2 = hal::mps2;
 
-inline constexpr std::uintptr_t kUart1Base = 0x4000'5000;  // CMSDK APB UART1 (QEMU `info mtree`)
-
 // A class of this file's anonymous namespace, not an alias: the sequencer instantiated on it has internal linkage,
 // which lets GCC specialise and inline it into main (an alias of the namespace-scope template costs ~570 B of flash).
 class Mps2IdentificationBoard
@@ -32,10 +30,13 @@ static_assert(hal::ReportsExchangeErrors<Mps2IdentificationBoard>);
 static_assert(hal::KnowsCycleRate<Mps2IdentificationBoard>);  // else the reports are not held for a host that lost one
 
 // Static storage: nothing of the sequence lives on the stack, and nothing on a heap (there is none).
-Mps2IdentificationBoard g_board{kUart1Base};
+Mps2IdentificationBoard g_board{mps2::kUart1Base};
 fw::IdentificationSequencer<Mps2IdentificationBoard> g_sequencer(g_board);
 
 }  // namespace
+
+// The plant port's receive interrupt: only wakes the core that sleeps for the answer (UartChannel::idle).
+extern "C" void PlantRx_IRQHandler() { mps2::Mps2Uart{mps2::kUart1Base}.disarm_rx_wake(); }
 
 int main() {
   g_board.init();

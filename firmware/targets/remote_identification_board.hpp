@@ -20,7 +20,18 @@ class UartChannel {
  public:
   template <typename Port>
   explicit constexpr UartChannel(const Port& port) : uart_(port) {}
-  void init() const { uart_.init(); }
+  void init() const {
+    uart_.init();
+    hal::cortex_m::enable_irq(LASHID_PLANT_RX_IRQ);
+  }
+  /// Nothing to read yet: asleep until an interrupt (the answer's first byte, SysTick's next zero event or the
+  /// link), so that the core does not poll.
+  void idle() {
+    hal::cortex_m::sleep_until_interrupt_unless([this] {
+      uart_.arm_rx_wake();
+      return uart_.rx_pending();
+    });
+  }
   hal::Status write(const std::uint8_t* data, std::size_t size) { return uart_.write(data, size); }
   hal::Status read(std::uint8_t& byte) { return uart_.read(byte); }
   std::uint32_t cycles() const { return hal::cortex_m::SysTickClock::cycles(); }

@@ -37,6 +37,9 @@ fw::IdentificationSequencer<Stm32f4IdentificationBoard> g_sequencer(g_board);
 
 }  // namespace
 
+// The plant port's receive interrupt: only wakes the core that sleeps for the answer (UartChannel::idle).
+extern "C" void PlantRx_IRQHandler() { stm32f4::Usart{stm32f4::kUsart2}.disarm_rx_wake(); }
+
 int main() {
   if (!stm32f4::runs_as_planned(stm32f4::start_clock_tree_and_say())) return stm32f4::kExitClockTree;
   g_board.init();

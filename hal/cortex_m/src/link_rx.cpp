@@ -16,6 +16,16 @@ void enable_irq(std::uint32_t irq) {
   detail::reg(detail::kNvicIser + 4U * (irq / 32U)) = 1U << (irq % 32U);
 }
 
+void disable_irq(std::uint32_t irq) {
+  // NVIC_ICER0..7 (B3.4.5): write-1-to-clear enable.
+  detail::reg(detail::kNvicIcer + 4U * (irq / 32U)) = 1U << (irq % 32U);
+}
+
+void clear_pending_irq(std::uint32_t irq) {
+  // NVIC_ICPR0..7 (B3.4.7): write-1-to-clear pending.
+  detail::reg(detail::kNvicIcpr + 4U * (irq / 32U)) = 1U << (irq % 32U);
+}
+
 void pend_irq(std::uint32_t irq) {
   // NVIC_ISPR0..7 (B3.4.6): write-1-to-set pending.
   detail::reg(detail::kNvicIspr + 4U * (irq / 32U)) = 1U << (irq % 32U);

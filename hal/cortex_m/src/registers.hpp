@@ -13,7 +13,9 @@ inline volatile std::uint32_t& reg(std::uintptr_t address) {
 
 // NVIC
 inline constexpr std::uintptr_t kNvicIser = 0xE000'E100;  // NVIC_ISER0; ISERn at +4n
+inline constexpr std::uintptr_t kNvicIcer = 0xE000'E180;  // NVIC_ICER0; ICERn at +4n
 inline constexpr std::uintptr_t kNvicIspr = 0xE000'E200;  // NVIC_ISPR0; ISPRn at +4n
+inline constexpr std::uintptr_t kNvicIcpr = 0xE000'E280;  // NVIC_ICPR0; ICPRn at +4n
 // System Control Block
 inline constexpr std::uintptr_t kCpuid = 0xE000'ED00;  // [15:4] PartNo
 inline constexpr std::uintptr_t kIcsr = 0xE000'ED04;   // [26] PENDSTSET, [8:0] VECTACTIVE

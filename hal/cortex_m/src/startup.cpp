@@ -37,6 +37,9 @@ void HardFault_Handler();
 void Default_Handler();
 void SysTick_Handler();  // systick.cpp
 void LinkRx_IRQHandler();  // the board's: its link UART's receive interrupt (lashid/hal/cortex_m.hpp)
+// The plant port's receive interrupt: defined by an image that sleeps while it waits for the plant's answer
+// (firmware/targets/remote_identification_board.hpp); in any other image its line is never enabled.
+[[gnu::weak, gnu::alias("Default_Handler")]] void PlantRx_IRQHandler();
 }
 
 // The application's main(), called through its assembler name: C++ forbids a program to call ::main directly.
@@ -65,6 +68,12 @@ constexpr std::size_t kExternalInterrupts = LASHID_EXTERNAL_IRQS;
 #endif
 constexpr std::size_t kLinkRxIrq = LASHID_LINK_RX_IRQ;
 static_assert(kLinkRxIrq < kExternalInterrupts, "LASHID_LINK_RX_IRQ: not one of the board's interrupt lines");
+#if !defined(LASHID_PLANT_RX_IRQ)
+#error "LASHID_PLANT_RX_IRQ: the board library must name its plant port UART's receive interrupt line"
+#endif
+constexpr std::size_t kPlantRxIrq = LASHID_PLANT_RX_IRQ;
+static_assert(kPlantRxIrq < kExternalInterrupts && kPlantRxIrq != kLinkRxIrq,
+              "LASHID_PLANT_RX_IRQ: not one of the board's interrupt lines, or the link's");
 
 struct VectorTable {
   void* initial_sp;
@@ -81,6 +90,7 @@ constexpr VectorTable make_vectors() {
   t.handlers[12] = nullptr;                                                  // 13: reserved
   t.handlers[14] = SysTick_Handler;    // 15
   t.handlers[kSystemExceptions - 1 + kLinkRxIrq] = LinkRx_IRQHandler;  // 16 + LASHID_LINK_RX_IRQ
+  t.handlers[kSystemExceptions - 1 + kPlantRxIrq] = PlantRx_IRQHandler;  // 16 + LASHID_PLANT_RX_IRQ
   return t;
 }
 

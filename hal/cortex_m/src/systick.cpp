@@ -38,6 +38,8 @@ void SysTickClock::stop() {
 
 std::uint32_t SysTickClock::wraps() { return g_wraps; }
 
+std::uint32_t SysTickClock::cycles_to_zero_event() { return detail::reg(detail::kSystCvr); }
+
 std::uint32_t SysTickClock::cycles() {
   using namespace detail;
   std::uint32_t wraps = 0;
@@ -72,7 +74,13 @@ Status SampleTimer::wait() {
     next_ = now;
     return Status::kTimeout;
   }
-  while (static_cast<std::int32_t>(now - next_) < 0) now = SysTickClock::cycles();
+  while (static_cast<std::int32_t>(now - next_) < 0) {
+    // Asleep until the next zero event where that comes no later than the tick (SysTick's interrupt wakes the
+    // core); the last cycles before the tick polled.
+    const std::uint32_t left = next_ - now;
+    sleep_until_interrupt_unless([left] { return SysTickClock::cycles_to_zero_event() > left; });
+    now = SysTickClock::cycles();
+  }
   return Status::kOk;
 }
 

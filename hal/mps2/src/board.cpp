@@ -16,6 +16,7 @@ std::uint32_t expected_cpu_part() { return LASHID_EXPECTED_CPU_PART; }
 namespace lashid::hal::mps2 {
 
 static_assert(kUart0RxIrq == LASHID_LINK_RX_IRQ, "the vector table's link interrupt must be UART0's receive");
+static_assert(kUart1RxIrq == LASHID_PLANT_RX_IRQ, "the vector table's plant port interrupt must be UART1's receive");
 
 void Mps2Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
   uart_.init(baud);
@@ -25,7 +26,9 @@ void Mps2Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) 
   // A byte that arrived between enabling RX and enabling its interrupt raised none (the CMSDK UART sets INTSTATUS.RX
   // only on arrival with RXINTEN on): QEMU would then hold every later byte back, a link that never speaks again.
   if ((detail::reg(kUart0Base + detail::kUartState) & detail::kUartRxFull) != 0U) cortex_m::pend_irq(kUart0RxIrq);
-  SysTickClock::start();
+  // A zero event every sample period: the sample tick and a plant port's answer are waited for asleep, and these
+  // events bound every such sleep (SampleTimer::wait, RemoteIdentificationBoard's UartChannel::idle).
+  SysTickClock::start(sample_period_cycles - 1U);
   timer_.start(sample_period_cycles);
 }
 

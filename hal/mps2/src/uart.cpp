@@ -50,6 +50,22 @@ Status Mps2Uart::read(std::uint8_t& byte) const {
   return Status::kOk;
 }
 
+bool Mps2Uart::rx_pending() const {
+  using namespace detail;
+  return (reg(base_ + kUartState) & (kUartRxFull | kUartRxOverrun)) != 0U;
+}
+
+void Mps2Uart::arm_rx_wake() const {
+  using namespace detail;
+  reg(base_ + kUartCtrl) = reg(base_ + kUartCtrl) | kUartRxIntEnable;
+}
+
+void Mps2Uart::disarm_rx_wake() const {
+  using namespace detail;
+  reg(base_ + kUartCtrl) = reg(base_ + kUartCtrl) & ~kUartRxIntEnable;
+  reg(base_ + kUartIntStatus) = kUartIntRx;
+}
+
 Mps2Uart::Errors Mps2Uart::errors() const {
   using namespace detail;
   const std::uint32_t state = reg(base_ + kUartState);

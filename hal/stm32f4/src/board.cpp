@@ -26,13 +26,16 @@ ClockStart start_clock_tree() {
 }
 
 static_assert(kUsart1Irq == LASHID_LINK_RX_IRQ, "the vector table's link interrupt must be USART1's");
+static_assert(kUsart2Irq == LASHID_PLANT_RX_IRQ, "the vector table's plant port interrupt must be USART2's");
 
 void Stm32f4Platform::init(std::uint32_t sample_period_cycles, std::uint32_t baud) {
   usart_.init(baud);
   // Received bytes now go through LinkRx_IRQHandler into the queue (lashid/hal/cortex_m.hpp).
   detail::reg(kUsart1.base + detail::kUsartCr1) = detail::reg(kUsart1.base + detail::kUsartCr1) | detail::kCr1Rxneie;
   cortex_m::enable_irq(kUsart1Irq);
-  SysTickClock::start();
+  // A zero event every sample period: the sample tick and a plant port's answer are waited for asleep, and these
+  // events bound every such sleep (SampleTimer::wait, RemoteIdentificationBoard's UartChannel::idle).
+  SysTickClock::start(sample_period_cycles - 1U);
   timer_.start(sample_period_cycles);
 }
 

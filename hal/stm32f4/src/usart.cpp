@@ -62,4 +62,18 @@ Status Usart::read(std::uint8_t& byte) const {
   return Status::kOk;
 }
 
+bool Usart::rx_pending() const {
+  using namespace detail;
+  return (reg(port_.base + kUsartSr) & (kSrRxne | kSrOre | kSrFe | kSrNf | kSrPe)) != 0U;
+}
+
+void Usart::arm_rx_wake() const {
+  using namespace detail;
+  reg(port_.base + kUsartCr1) = reg(port_.base + kUsartCr1) | kCr1Rxneie;
+  cortex_m::clear_pending_irq(port_.irq);
+  cortex_m::enable_irq(port_.irq);
+}
+
+void Usart::disarm_rx_wake() const { cortex_m::disable_irq(port_.irq); }
+
 }  // namespace lashid::hal::stm32f4

@@ -55,7 +55,10 @@ class RemotePlantPort {
       while (channel_.cycles() - start < timeout) {
         std::uint8_t byte = 0;
         const Status s = channel_.read(byte);
-        if (s == Status::kWouldBlock) continue;
+        if (s == Status::kWouldBlock) {
+          if constexpr (requires { channel_.idle(); }) channel_.idle();  // e.g. sleep until an interrupt
+          continue;
+        }
         if (s != Status::kOk) {  // overrun/framing: bytes were lost, the answer may be among them
           ++errors_;
           break;

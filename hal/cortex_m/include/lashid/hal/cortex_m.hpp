@@ -72,8 +72,25 @@ using LinkRxQueue = IsrByteQueue<256>;
 LinkRxQueue& link_rx_queue();
 /// Enables external interrupt `irq` in the NVIC (ISER; priority left at its reset value, the highest).
 void enable_irq(std::uint32_t irq);
+/// Disables external interrupt `irq` in the NVIC (ICER).
+void disable_irq(std::uint32_t irq);
 /// Sets external interrupt `irq` pending (ISPR): its handler runs once it is enabled and the priority allows.
 void pend_irq(std::uint32_t irq);
+/// Clears external interrupt `irq`'s pending state (ICPR).
+void clear_pending_irq(std::uint32_t irq);
+
+/// Sleeps (WFI) until the next interrupt unless `ready()` holds. Interrupts are masked from the check to WFI, so an
+/// interrupt that comes in between is not slept through: a pending interrupt ends WFI even when masked, and its
+/// handler runs at once after. Wake sources: every enabled interrupt, SysTick's zero events among them (a board that
+/// sleeps starts SysTick with RELOAD + 1 = its sample period, so no sleep outlasts one period). Call with interrupts
+/// enabled. In QEMU a sleeping core frees the host's CPU (a polling one keeps a host core busy and slows the
+/// emulated UARTs that the host feeds).
+template <class Ready>
+void sleep_until_interrupt_unless(Ready ready) {
+  __asm__ volatile("cpsid i" ::: "memory");
+  if (!ready()) __asm__ volatile("dsb\n\twfi" ::: "memory");
+  __asm__ volatile("cpsie i\n\tisb" ::: "memory");
+}
 /// The platforms' link_read: the queued bytes in order (kOk), kLinkError once where bytes were lost between two of
 /// them, else kWouldBlock.
 Status read_link_rx(std::uint8_t& byte);
@@ -112,6 +129,8 @@ class SysTickClock {
   static std::uint32_t cycles();
   /// SysTick wraps counted so far (the interrupt count, for tests).
   static std::uint32_t wraps();
+  /// Cycles until the next zero event (SysTick's current value: it counts down to 0).
+  static std::uint32_t cycles_to_zero_event();
 };
 
 /// A fixed sample period on SysTickClock: wait() returns at start + k * period.

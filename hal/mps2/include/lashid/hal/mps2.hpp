@@ -30,6 +30,8 @@ inline constexpr std::uint32_t kSystemClockHz = 25'000'000;     ///< SYSCLK of t
 inline constexpr std::uint32_t kSysTickRefClockHz = 1'000'000;  ///< SysTick external reference clock (unused)
 inline constexpr std::uintptr_t kUart0Base = 0x4000'4000;       ///< CMSDK APB UART0 on AN385/AN386/AN500
 inline constexpr std::uint32_t kUart0RxIrq = 0;  ///< its receive interrupt line (QEMU hw/arm/mps2.c: uartirq[0])
+inline constexpr std::uintptr_t kUart1Base = 0x4000'5000;  ///< CMSDK APB UART1: the plant port (QEMU `info mtree`)
+inline constexpr std::uint32_t kUart1RxIrq = 2;  ///< its receive interrupt line (QEMU hw/arm/mps2.c: uartirq[1])
 inline constexpr std::uint32_t kDefaultBaud = 115'200;
 /// Guest instructions per SysTick cycle when QEMU runs with `-icount shift=0` (1 instruction = 1 ns of virtual
 /// time, one 25 MHz cycle = 40 ns). Only meaningful under that option; without -icount, SysTick follows host time.
@@ -76,6 +78,12 @@ class Mps2Uart {
   /// Non-blocking read of one byte: kOk; kWouldBlock (nothing pending); kLinkError (receive overrun since the last
   /// call: bytes were lost; the overrun is cleared and the byte now pending, if any, is left for the next call).
   Status read(std::uint8_t& byte) const;
+  /// Whether read() has something to say (a byte or an overrun): it would not return kWouldBlock.
+  bool rx_pending() const;
+  /// The receive interrupt for one wake-up: arm_rx_wake() enables it, and the next byte's interrupt handler calls
+  /// disarm_rx_wake(), which disables and clears it (the byte stays for read()).
+  void arm_rx_wake() const;
+  void disarm_rx_wake() const;
   /// The sticky error flags, and clearing them.
   Errors errors() const;
   void clear_errors() const;

@@ -63,14 +63,19 @@ struct UsartPort {
   std::uint32_t rcc_enable_bit;
   std::uint32_t pclk_hz;               ///< the APB clock its baud rate generator divides
   UsartPins pins;                      ///< its TX and RX pins
+  std::uint32_t irq;                   ///< its interrupt line (RM0090 Table 61)
 };
 inline constexpr std::uintptr_t kRccBase = 0x4002'3800;                        ///< RM0090 2.3, Table 1
 /// USART1's interrupt line (RM0090 Table 61, position 37): the link's receive interrupt.
 inline constexpr std::uint32_t kUsart1Irq = 37;
+/// USART2's interrupt line (RM0090 Table 61, position 38): the plant port's receive wake-up.
+inline constexpr std::uint32_t kUsart2Irq = 38;
 /// APB2ENR.USART1EN; PA9/PA10.
-inline constexpr UsartPort kUsart1{0x4001'1000, kRccBase + 0x44, 1U << 4, kApb2ClockHz, kUsart1PinsPA9PA10};
+inline constexpr UsartPort kUsart1{0x4001'1000, kRccBase + 0x44, 1U << 4, kApb2ClockHz, kUsart1PinsPA9PA10,
+                                    kUsart1Irq};
 /// APB1ENR.USART2EN; PA2/PA3.
-inline constexpr UsartPort kUsart2{0x4000'4400, kRccBase + 0x40, 1U << 17, kApb1ClockHz, kUsart2PinsPA2PA3};
+inline constexpr UsartPort kUsart2{0x4000'4400, kRccBase + 0x40, 1U << 17, kApb1ClockHz, kUsart2PinsPA2PA3,
+                                    kUsart2Irq};
 
 /// The link's transmitter through a queue that USART1's interrupt drains (on TXE), for an image whose sample loop
 /// must not wait for the wire (hal::BuffersLinkWrites: the analog image streams its samples). Queues all `size`
@@ -131,6 +136,14 @@ class Usart {
   /// Non-blocking read of one byte: kOk; kWouldBlock (RXNE clear); kLinkError (overrun, framing or noise error: the
   /// error is cleared by the SR-then-DR read sequence of RM0090 30.6.1, which also drops the byte in DR).
   Status read(std::uint8_t& byte) const;
+  /// Whether read() has something to say (a byte or an error): it would not return kWouldBlock.
+  bool rx_pending() const;
+  /// The receive interrupt for one wake-up: arm_rx_wake() sets RXNEIE and enables the line in the NVIC (its stale
+  /// pending state cleared), and the interrupt handler calls disarm_rx_wake(), which disables the line in the NVIC.
+  /// The byte stays in DR for read(). (Clearing RXNEIE would not do: QEMU's USART lowers its line only when DR is
+  /// read.)
+  void arm_rx_wake() const;
+  void disarm_rx_wake() const;
 
  private:
   UsartPort port_;
