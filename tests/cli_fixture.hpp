@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "cli_harness.hpp"
 
 namespace lashid::test {
@@ -23,7 +25,7 @@ class Cli : public LashidExeTest {
     ASSERT_EQ(r.exit_code, 0) << r;
   }
 
-  nlohmann::json read_json(const std::string& name) const { return nlohmann::json::parse(slurp(work_ / name)); }
+  nlohmann::json read_json(const std::string& name) const { return parse_json(slurp(work_ / name)); }
   void write_json(const std::string& name, const nlohmann::json& value) const {
     std::ofstream(work_ / name) << value.dump(2) << "\n";
   }

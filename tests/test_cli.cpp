@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "cli_fixture.hpp"
 #include "cli_harness.hpp"
 #include "lashid/sim/hidden_effect.hpp"
@@ -213,7 +215,7 @@ TEST_F(Cli, DiagnoseFindsAHiddenDeadTimeAndWritesTheJson) {
   EXPECT_EQ(slurp(cfg).find("delay"), std::string::npos) << "the effect must not leak into the config";
   {
     // The config says what the recording holds (its lengths), as simulate's does: counted here from the CSV.
-    const json config = json::parse(slurp(cfg));
+    const json config = parse_json(slurp(cfg));
     std::map<std::string, int> rows;
     std::istringstream lines(slurp(csv));
     for (std::string line; std::getline(lines, line);) {
@@ -229,7 +231,7 @@ TEST_F(Cli, DiagnoseFindsAHiddenDeadTimeAndWritesTheJson) {
   const Outcome r = run({"diagnose", "--config", cfg, "--data", csv, "--json", out});
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_NE(r.out.find("cause: dead_time"), std::string::npos) << r;
-  const json j = json::parse(slurp(out));
+  const json j = parse_json(slurp(out));
   EXPECT_EQ(j.at("cause"), "dead_time");
   // The delay the generator hid (the same case, drawn in-process from the same cause and seed).
   EXPECT_EQ(j.at("parameters").at("delay").get<int>(),

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "cli_harness.hpp"
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/hil/config_design.hpp"
@@ -23,7 +25,7 @@ using namespace lashid::test;
 
 class CliDesign : public LashidExeTest {
  protected:
-  json read_json(const std::string& name) const { return json::parse(slurp(work_ / name)); }
+  json read_json(const std::string& name) const { return parse_json(slurp(work_ / name)); }
   void write_json(const std::string& name, const json& value) const {
     std::ofstream(work_ / name) << value.dump(2) << "\n";
   }
@@ -40,7 +42,7 @@ class CliDesign : public LashidExeTest {
   }
   // A valid config (n = 2, m = 6 of docs/data-format.md, T = 18) with `key` set to `value`.
   std::string config_with(const std::string& key, const json& value) const {
-    json config = json::parse(R"({"n": 2, "m": 6, "v_min": -3, "v_max": 4, "V_d": [-3, -2, -1, 0, 1, 2],
+    json config = parse_json(R"({"n": 2, "m": 6, "v_min": -3, "v_max": 4, "V_d": [-3, -2, -1, 0, 1, 2],
                                   "V_a": [4, 3, 2, 1, 0, -1], "operator": "backlash"})");
     if (value.is_null()) {
       config.erase(key);

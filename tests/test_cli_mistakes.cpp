@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "cli_harness.hpp"
 
 namespace {
@@ -135,7 +137,7 @@ TEST_F(CliMistakes, IdentifyBothNeedsBothSchemesPhasesAndAutoTakesWhatThereIs) {
   EXPECT_FALSE(Contains(both.out, "DIS")) << "a result printed before the error: " << both;
   const Outcome automatic = run({"identify", "--config", "cfg.json", "--data", "dis_only.csv", "--json", "e.json"});
   ASSERT_EQ(automatic.exit_code, 0) << automatic;
-  const json e = json::parse(slurp(work_ / "e.json"));
+  const json e = parse_json(slurp(work_ / "e.json"));
   EXPECT_TRUE(e.contains("dis"));
   EXPECT_FALSE(e.contains("ais"));
   // The output path is checked before the work, not after the estimates are printed.
@@ -148,7 +150,7 @@ TEST_F(CliMistakes, IdentifyBothNeedsBothSchemesPhasesAndAutoTakesWhatThereIs) {
 // early must be, but said: a note on stderr names the phase, its count and the config's key. A whole one says nothing.
 TEST_F(CliMistakes, ARecordingShorterThanItsConfigIsNoted) {
   simulate("rec.csv", "cfg.json");
-  const json config = json::parse(slurp(work_ / "cfg.json"));
+  const json config = parse_json(slurp(work_ / "cfg.json"));
   ASSERT_TRUE(config.contains("pulse_length_a")) << config.dump();
   const int stated = config.at("pulse_length_a").get<int>();
   const Outcome whole = run({"identify", "--config", "cfg.json", "--data", "rec.csv"});
@@ -190,7 +192,7 @@ TEST_F(CliMistakes, AFailedSchemeHasNullEstimatesNotZeros) {
   EXPECT_EQ(r.exit_code, 2) << r;
   EXPECT_TRUE(Contains(r.out, "no estimates: ")) << r;
   EXPECT_FALSE(Contains(r.out, "a1 ")) << r;
-  const json e = json::parse(slurp(work_ / "e.json"));
+  const json e = parse_json(slurp(work_ / "e.json"));
   EXPECT_NE(e.at("dis").at("status").get<std::string>(), "ok");
   EXPECT_TRUE(e.at("dis").at("a").is_null());
   EXPECT_TRUE(e.at("dis").at("theta").is_null());
@@ -301,7 +303,7 @@ TEST_F(CliMistakes, ASensorRangeOfTheWrongSizeIsSaidPlainly) {
 // dis_paper recording's y reaches above 215 in both schemes' phases; its config had no range).
 TEST_F(CliMistakes, IdentifyLeavesOutWhatLiesOutsideTheSensorRangeAndSaysSo) {
   simulate("rec.csv", "cfg.json");
-  json cfg = json::parse(slurp(work_ / "cfg.json"));
+  json cfg = parse_json(slurp(work_ / "cfg.json"));
   cfg["sensor_range"] = {-1000, 215};
   std::ofstream(work_ / "ranged.json") << cfg.dump();
   const Outcome r = run({"identify", "--config", "ranged.json", "--data", "rec.csv", "--float"});

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "cli_harness.hpp"
 
 namespace {
@@ -31,7 +33,7 @@ TEST_F(OperatorFitCli, WritesTheFitsOfBothModelsPerTestFile) {
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(Contains(r.out, "error by phase of the loop"));
   EXPECT_TRUE(Contains(r.out, "% of the squared error is in the"));
-  const json j = json::parse(slurp(work_ / "fit.json"));
+  const json j = parse_json(slurp(work_ / "fit.json"));
   EXPECT_TRUE(j["nominal"]["operator"] == "switch" || j["nominal"]["operator"] == "backlash");
   EXPECT_EQ(j["extended"]["model"]["operator"], "friction_gap");
   EXPECT_GT(j["extended"]["model"]["half_width"].get<double>(), 0.0);
@@ -55,7 +57,7 @@ TEST_F(OperatorFitCli, ReportsTheDynamicsAfterTheOperatorPerTestFile) {
                          "fit.json"});
   ASSERT_EQ(r.exit_code, 0) << r;
   EXPECT_TRUE(Contains(r.out, "extended + dynamics"));
-  const json j = json::parse(slurp(work_ / "fit.json"));
+  const json j = parse_json(slurp(work_ / "fit.json"));
   const json& model = j["dynamics"]["model"];
   const int order = model["order"].get<int>();
   EXPECT_GE(order, 2);
@@ -100,7 +102,7 @@ TEST_F(OperatorFitCli, FitsTheOperatorPerBandTension) {
   const Outcome r = run({"operator-fit", "--decimate", "16", "--train", kTrain, train36, "--test", kTest1, kTest2,
                          "--tension", "eq_KocaeliDBE.csv=36", "--json", "fit.json"});
   ASSERT_EQ(r.exit_code, 0) << r;
-  const json j = json::parse(slurp(work_ / "fit.json"));
+  const json j = parse_json(slurp(work_ / "fit.json"));
   EXPECT_EQ(j["tension_lb"]["train"], json({30.0, 36.0}));
   EXPECT_EQ(j["tension_lb"]["test"], json({30.0, 36.0}));
   const json& tensions = j["extended_tension"]["model"]["tensions"];

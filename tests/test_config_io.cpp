@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "json_text.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/json.hpp"
 
@@ -32,7 +33,7 @@ using test::error_of;
 
 // The example of docs/data-format.md.
 json valid_document() {
-  return json::parse(R"({"n": 2, "m": 6, "v_min": -3, "v_max": 4,
+  return parse_json(R"({"n": 2, "m": 6, "v_min": -3, "v_max": 4,
                          "V_d": [-3, -2, -1, 0, 1, 2], "V_a": [4, 3, 2, 1, 0, -1], "operator": "backlash"})");
 }
 
@@ -319,7 +320,7 @@ TEST(ConfigParse, DeepNestingIsRefusedWhileParsing) {
 }
 
 TEST(ConfigParse, AnEchoedValueIsCut) {
-  json document = json::parse(R"({"m": 6, "v_min": -3, "v_max": 4, "operator": "switch"})");
+  json document = parse_json(R"({"m": 6, "v_min": -3, "v_max": 4, "operator": "switch"})");
   document["n"] = json::array();
   for (int i = 0; i < 100000; ++i) document["n"].push_back(i);
   const std::string message = config_error(document);

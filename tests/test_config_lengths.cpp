@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "json_text.hpp"
 #include "lashid/io/config.hpp"
 #include "lashid/io/json.hpp"
 
@@ -22,7 +23,7 @@ constexpr std::string_view kSource = "cfg.json";
 
 // The example of docs/data-format.md: n = 2, m = 6, so s = max(n, 2) = 2 and T = s (m + 3) = 18.
 json valid_document() {
-  return json::parse(R"({"n": 2, "m": 6, "v_min": -3, "v_max": 4,
+  return parse_json(R"({"n": 2, "m": 6, "v_min": -3, "v_max": 4,
                          "V_d": [-3, -2, -1, 0, 1, 2], "V_a": [4, 3, 2, 1, 0, -1], "operator": "backlash"})");
 }
 
@@ -94,7 +95,7 @@ TEST(ConfigLengths, PulseLengthsMustCoverTwoPeriods) {
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "pulse_length_a", 35)),
                        "'pulse_length_a' = 35 is shorter than two pulse periods (2T = 36 for n = 2, m = 6)"));
   // n = 3, m = 2: T = 3 * 5 = 15, so 29 is one short.
-  const json other = json::parse(R"({"n": 3, "m": 2, "v_min": 0, "v_max": 1, "operator": "switch"})");
+  const json other = parse_json(R"({"n": 3, "m": 2, "v_min": 0, "v_max": 1, "operator": "switch"})");
   EXPECT_TRUE(Contains(config_error(with(other, "pulse_length_d", 29)), "(2T = 30 for n = 3, m = 2)"));
   EXPECT_EQ(parse(with(other, "pulse_length_d", 30)).pulse_length_d, 30);
 }

@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "lashid/firmware/sequencer.hpp"
 #include "lashid/hil/hil.hpp"
 #include "lashid/hil/run_recording.hpp"
@@ -190,7 +192,7 @@ TEST_F(RecorderTest, AHostBoardRecordingIdentifiesToTheFirmwaresOwnEstimates) {
                               "' --json '" + (dir_ / "est.json").string() + "' > '" + (dir_ / "out.txt").string() +
                               "' 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << slurp(dir_ / "out.txt");
-  const auto estimates = nlohmann::json::parse(slurp(dir_ / "est.json"));
+  const auto estimates = parse_json(slurp(dir_ / "est.json"));
   for (const fw::EstimateRecord& e : r.estimates) {
     const auto& cli = estimates.at(e.scheme == est::Scheme::kDescending ? "dis" : "ais");
     const std::vector<float> a(e.a.begin(), e.a.begin() + e.n), b(e.b.begin(), e.b.begin() + e.n);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "data_error_matchers.hpp"
+#include "sanitizer_budget.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/displacement_echo.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
@@ -124,6 +125,7 @@ TEST(OutputDynamics, OutputErrorConvergesFromAWrongStart) {
 
 // Sensor noise biases the equation error (the regressors hold noisy outputs); the simulated error does not see it.
 TEST(OutputDynamics, NoisyMeasurementStillGivesTheResonanceAndTheOrder) {
+  LASHID_SKIP_UNDER_SANITIZERS("the noise-free OutputDynamics tests");
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 0.05);
   std::vector<FilterData> files;

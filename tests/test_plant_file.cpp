@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
+
 #include "lashid/io/plant_file.hpp"
 
 #include "data_error_matchers.hpp"
@@ -25,7 +27,7 @@ using test::error_of;
 constexpr std::string_view kSource = "plant.json";
 
 json valid_document() {
-  return json::parse(R"({"operator": "backlash",
+  return parse_json(R"({"operator": "backlash",
                          "borders": {"v": [-3, 0, 4], "ascending": [-2, -0.5, 1.5], "descending": [-1.5, 0.5, 2]},
                          "a": [-1.2, 0.35], "b": [0.5, 0.25],
                          "equation_noise_std": 0.1})");

@@ -29,6 +29,7 @@
 #include "lashid/paper/paper_reference.hpp"
 #include "lashid/paper/reproduction.hpp"
 #include "paper_examples.hpp"
+#include "sanitizer_budget.hpp"
 
 namespace {
 
@@ -238,6 +239,7 @@ double predicted_probability(const Scenario& s, int N, double eps) {
 }
 
 TEST(Consistency, ProbabilityAgreesWithLeastSquaresTheoryAndGoesToOne) {
+  LASHID_SKIP_UNDER_SANITIZERS("the other Consistency and Reproduction tests");
   const Scenario& s = find_scenario("dis_paper");
   const double eps = paper::kDisConsistencyEps;
   for (const int N : {2000, 20000}) {
