@@ -110,32 +110,49 @@ TEST(RemotePlantPort, AnAnswerCutShortCostsOneRepetitionNotTwo) {
   EXPECT_EQ(port.errors(), 1u);  // the frame cut short
 }
 
+// A peer that answers every request with the same y: at once, or only once the port has idled `idles_before` times
+// (an answer that arrives while the core sleeps). Reads count as the clock's ticks.
+struct ConstantPeer {
+  explicit ConstantPeer(float answer, int idles_before_answer = 0) : y(answer), idles_before(idles_before_answer) {}
+  hal::Status write(const std::uint8_t* data, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) {
+      if (decoder.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
+      hal::link::PayloadWriter w;
+      w.u32(decoder.frame().reader().u32());
+      w.f32(y);
+      std::uint8_t frame[hal::link::kMaxFrame];
+      answer_size = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
+      held.assign(frame, frame + answer_size);
+      if (idles_before == 0) deliver();
+    }
+    return hal::Status::kOk;
+  }
+  hal::Status read(std::uint8_t& byte) {
+    ++reads;
+    if (pending.empty()) return hal::Status::kWouldBlock;
+    byte = pending.front();
+    pending.pop_front();
+    return hal::Status::kOk;
+  }
+  void idle() {
+    if (++idles == idles_before) deliver();
+  }
+  std::uint32_t cycles() const { return static_cast<std::uint32_t>(reads); }
+  void deliver() { pending.insert(pending.end(), held.begin(), held.end()); }
+  float y;
+  int idles_before;
+  hal::link::FrameDecoder decoder;
+  std::vector<std::uint8_t> held;
+  std::size_t answer_size = 0;
+  std::deque<std::uint8_t> pending;
+  int reads = 0;
+  int idles = 0;
+};
+
 TEST(RemotePlantPort, ANonFiniteMeasurementIsTheSensorsFaultNotTheLinks) {
   // A verified answer carrying NaN: kOutOfRange with the value, no repetition (asking again gives the same value).
-  struct NanPeer {
-    hal::Status write(const std::uint8_t* data, std::size_t size) {
-      for (std::size_t i = 0; i < size; ++i) {
-        if (decoder.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
-        hal::link::PayloadWriter w;
-        w.u32(decoder.frame().reader().u32());
-        w.f32(std::nanf(""));
-        std::uint8_t frame[hal::link::kMaxFrame];
-        const std::size_t n = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), frame);
-        pending.insert(pending.end(), frame, frame + n);
-      }
-      return hal::Status::kOk;
-    }
-    hal::Status read(std::uint8_t& byte) {
-      if (pending.empty()) return hal::Status::kWouldBlock;
-      byte = pending.front();
-      pending.pop_front();
-      return hal::Status::kOk;
-    }
-    std::uint32_t cycles() const { return 0; }
-    hal::link::FrameDecoder decoder;
-    std::deque<std::uint8_t> pending;
-  } peer;
-  hal::RemotePlantPort<NanPeer> port(peer, 100, 3);
+  ConstantPeer peer(std::nanf(""));
+  hal::RemotePlantPort<ConstantPeer> port(peer, 100, 3);
   ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
   float y = 0;
   EXPECT_EQ(port.measure(y), hal::Status::kOutOfRange);
@@ -149,37 +166,8 @@ TEST(RemotePlantPort, WaitsThroughTheChannelsIdleWhereItHasOne) {
   // byte that wakes a sleeping core. Each of the 3 silent reads before it must be followed by one idle(), and the
   // answer then read in full. Without the idle() calls no answer comes: the clock (one tick per read) reaches the
   // time limit and the port gives up with kSensorFault.
-  struct SleepyPeer {
-    hal::Status write(const std::uint8_t* data, std::size_t size) {
-      for (std::size_t i = 0; i < size; ++i) {
-        if (decoder.push(data[i]) != hal::link::FrameDecoder::Result::kFrame) continue;
-        hal::link::PayloadWriter w;
-        w.u32(decoder.frame().reader().u32());
-        w.f32(0.5f);
-        answer_size = hal::link::encode_frame(MessageType::kMeasurement, 0, w.data(), w.size(), answer);
-      }
-      return hal::Status::kOk;
-    }
-    hal::Status read(std::uint8_t& byte) {
-      ++reads;
-      if (pending.empty()) return hal::Status::kWouldBlock;
-      byte = pending.front();
-      pending.pop_front();
-      return hal::Status::kOk;
-    }
-    void idle() {
-      ++idles;
-      if (idles == 3) pending.insert(pending.end(), answer, answer + answer_size);
-    }
-    std::uint32_t cycles() const { return static_cast<std::uint32_t>(reads); }
-    hal::link::FrameDecoder decoder;
-    std::uint8_t answer[hal::link::kMaxFrame] = {};
-    std::size_t answer_size = 0;
-    std::deque<std::uint8_t> pending;
-    int reads = 0;
-    int idles = 0;
-  } peer;
-  hal::RemotePlantPort<SleepyPeer> port(peer, 100, 3);
+  ConstantPeer peer(0.5f, 3);
+  hal::RemotePlantPort<ConstantPeer> port(peer, 100, 3);
   ASSERT_EQ(port.actuate(1.0f), hal::Status::kOk);
   float y = 0;
   ASSERT_EQ(port.measure(y), hal::Status::kOk);
