@@ -62,7 +62,7 @@ extern "C" void LinkRx_IRQHandler() {
   lashid::hal::cortex_m::LinkRxQueue& queue = lashid::hal::cortex_m::link_rx_queue();
   const std::uint32_t sr = reg(base + kUsartSr);
   if ((sr & kSrTxe) != 0U && (reg(base + kUsartCr1) & kCr1Txeie) != 0U) lashid_link_tx_interrupt();
-  if ((sr & (kSrRxne | kSrOre | kSrFe | kSrNf | kSrPe)) == 0U) return;
+  if ((sr & (kSrRxne | kSrRxErrors)) == 0U) return;
   const auto byte = static_cast<std::uint8_t>(reg(base + kUsartDr) & 0xFFU);
   if ((sr & (kSrFe | kSrNf | kSrPe)) != 0U) {
     queue.note_lost();

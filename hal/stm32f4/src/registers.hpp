@@ -26,6 +26,8 @@ inline constexpr std::uint32_t kSrOre = 1U << 3;   // overrun: a byte arrived wh
 inline constexpr std::uint32_t kSrRxne = 1U << 5;  // read data register not empty
 inline constexpr std::uint32_t kSrTc = 1U << 6;    // transmission complete: the last byte has left the line
 inline constexpr std::uint32_t kSrTxe = 1U << 7;   // transmit data register empty
+// The receive errors: cleared, with the byte in DR, by reading SR then DR.
+inline constexpr std::uint32_t kSrRxErrors = kSrOre | kSrFe | kSrNf | kSrPe;
 // CR1 bits (30.6.4); M = 0 (8 data bits), OVER8 = 0 (16x oversampling), PCE = 0 (no parity)
 inline constexpr std::uint32_t kCr1Re = 1U << 2;
 inline constexpr std::uint32_t kCr1Rxneie = 1U << 5;  // interrupt on RXNE or ORE

@@ -50,7 +50,7 @@ Status Usart::write(const char* text) const {
 Status Usart::read(std::uint8_t& byte) const {
   using namespace detail;
   const std::uint32_t sr = reg(port_.base + kUsartSr);
-  if ((sr & (kSrOre | kSrFe | kSrNf | kSrPe)) != 0U) {
+  if ((sr & kSrRxErrors) != 0U) {
     // RM0090 30.6.1: ORE, NF, FE and PE are cleared by reading SR and then DR; the byte in DR goes with them (bytes
     // were lost already; the link protocol's CRC and retries recover).
     const std::uint32_t dropped = reg(port_.base + kUsartDr);
@@ -64,7 +64,7 @@ Status Usart::read(std::uint8_t& byte) const {
 
 bool Usart::rx_pending() const {
   using namespace detail;
-  return (reg(port_.base + kUsartSr) & (kSrRxne | kSrOre | kSrFe | kSrNf | kSrPe)) != 0U;
+  return (reg(port_.base + kUsartSr) & (kSrRxne | kSrRxErrors)) != 0U;
 }
 
 void Usart::arm_rx_wake() const {
