@@ -20,7 +20,7 @@
 #include "data_error_matchers.hpp"
 
 namespace lashid::sim {
-namespace {
+namespace config_io_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -329,7 +329,7 @@ TEST(ConfigParse, AnEchoedValueIsCut) {
   EXPECT_LT(message.size(), 150u);
 }
 
-}  // namespace
+}  // namespace config_io_test
 }  // namespace lashid::sim
 
 namespace {

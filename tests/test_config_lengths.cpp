@@ -13,7 +13,7 @@
 #include "data_error_matchers.hpp"
 
 namespace lashid::sim {
-namespace {
+namespace config_lengths_test {
 
 using nlohmann::json;
 using test::Contains;
@@ -169,5 +169,5 @@ TEST(ConfigLimitsTest, ANarrowerRangeIsNamedInItsErrors) {
   EXPECT_TRUE(Contains(config_error(with(valid_document(), "n", 5)), "'n' = 5 is outside the compiled range [1, 4]"));
 }
 
-}  // namespace
+}  // namespace config_lengths_test
 }  // namespace lashid::sim

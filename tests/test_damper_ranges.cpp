@@ -14,7 +14,7 @@
 #include "lashid/operator_fit/operator_fit.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
 
-namespace {
+namespace damper_ranges_test {
 
 using namespace lashid::sim;
 using lashid::test::Contains;
@@ -83,4 +83,4 @@ TEST(LoopAnalysis, TinyTimeStepIsWellDefined) {
   EXPECT_NEAR(osc.fast_share, about_mean / total, 1e-12);
 }
 
-}  // namespace
+}  // namespace damper_ranges_test

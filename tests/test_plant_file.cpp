@@ -18,7 +18,7 @@
 #include "data_error_matchers.hpp"
 
 namespace lashid::sim {
-namespace {
+namespace plant_file_test {
 
 using nlohmann::json;
 using test::Contains;
@@ -210,5 +210,5 @@ TEST(PlantFile, BordersMustCoverTheDesignInterval) {
   EXPECT_TRUE(Contains(error_of([&] { check_plant_covers(p, -3, 4.5, kSource); }), "'borders.v' covers"));
 }
 
-}  // namespace
+}  // namespace plant_file_test
 }  // namespace lashid::sim

@@ -12,7 +12,7 @@
 
 #include "lashid/operator_fit/test_profiles.hpp"
 
-namespace {
+namespace test_profiles_test {
 
 using namespace lashid::sim;
 
@@ -105,4 +105,4 @@ TEST(TestProfiles, BadArgumentsAreErrorsNamingTheRecord) {
   EXPECT_THROW(FrictionGapOperator(op).place(nan, 0.0), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace test_profiles_test

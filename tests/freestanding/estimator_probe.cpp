@@ -33,11 +33,11 @@ extern "C" int lashid_estimator_probe(const float* y, int count, float* first_po
     if (step) {
       (void)g_identifier.add_step_sample(v, y[t]);
       (void)g_textbook.add_step_sample(v, y[t]);
-      (void)g_batch.add_step_sample(v, static_cast<double>(y[t]));
+      (void)g_batch.add_step_sample(static_cast<double>(v), static_cast<double>(y[t]));
     } else {
       (void)g_identifier.add_pulse_sample(v, y[t]);
       (void)g_textbook.add_pulse_sample(v, y[t]);
-      (void)g_batch.add_pulse_sample(v, static_cast<double>(y[t]));
+      (void)g_batch.add_pulse_sample(static_cast<double>(v), static_cast<double>(y[t]));
     }
   }
   const auto e = g_identifier.estimate();

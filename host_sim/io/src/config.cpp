@@ -66,7 +66,7 @@ double level_tolerance(const ExperimentConfig& config) {
   // (est::LagrangeBasis works on v - held: kLevelResolution x the width). Not kLevelResolution x |v|: on an interval
   // far from 0 ([1e6, 1e6 + 1]) that was 7.6, wider than the interval, and every off-design v matched some level.
   const double magnitude = std::max(std::fabs(config.v_min), std::fabs(config.v_max));
-  constexpr double kEps32 = std::numeric_limits<float>::epsilon();
+  constexpr double kEps32 = static_cast<double>(std::numeric_limits<float>::epsilon());
   return std::max(0.5 * kEps32 * magnitude,
                   static_cast<double>(est::kLevelResolution<float>) * (config.v_max - config.v_min));
 }
