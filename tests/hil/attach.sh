@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # lashid hil --attach: QEMU is started here, by "the user", with its UARTs on server sockets; the tool attaches.
-# Usage: attach.sh LASHID QEMU FIRMWARE
+# Usage: attach.sh LASHID QEMU FIRMWARE CONFIG (the design sent, with the scenario dis_paper's plant)
 set -euo pipefail
-lashid=$1 qemu=$2 firmware=$3
+lashid=$1 qemu=$2 firmware=$3 config=$4
 dir=$(mktemp -d)
 qemu_pid=""
 trap 'kill "${qemu_pid}" 2>/dev/null || true; rm -rf "${dir}"' EXIT
@@ -13,6 +13,6 @@ qemu_command=$("${lashid}" qemu-command --qemu "${qemu}" --machine mps2-an386 \
 mapfile -t qemu_command <<<"${qemu_command}"
 "${qemu_command[@]}" >"${dir}/qemu.log" 2>&1 &
 qemu_pid=$!
-"${lashid}" hil --attach "${dir}/link.sock" "${dir}/plant.sock" --scenario dis_paper --seed 11 --compare-host \
-  --timeout 240
+"${lashid}" hil --attach "${dir}/link.sock" "${dir}/plant.sock" --scenario dis_paper --config "${config}" \
+  --seed 11 --compare-host --timeout 240
 wait "${qemu_pid}"  # the firmware exits QEMU with 0 after a successful run

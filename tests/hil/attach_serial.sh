@@ -2,9 +2,9 @@
 # lashid hil --attach on serial ports: QEMU's UARTs on pseudo-terminals (-serial pty), the same character devices a
 # board's USB serial adapters are, opened by the tool raw at 115200 baud. Then a character device that is not a
 # serial port must be refused, naming it.
-# Usage: attach_serial.sh LASHID QEMU FIRMWARE
+# Usage: attach_serial.sh LASHID QEMU FIRMWARE CONFIG (the design sent, with the scenario dis_paper's plant)
 set -euo pipefail
-lashid=$1 qemu=$2 firmware=$3
+lashid=$1 qemu=$2 firmware=$3 config=$4
 dir=$(mktemp -d)
 qemu_pid=""
 trap 'kill "${qemu_pid}" 2>/dev/null || true; rm -rf "${dir}"' EXIT
@@ -21,7 +21,8 @@ for _ in $(seq 100); do
   sleep 0.1
 done
 [[ ${#ptys[@]} -ge 2 ]] || { cat "${dir}/qemu.log"; echo "attach_serial: QEMU named no pseudo-terminals" >&2; exit 1; }
-"${lashid}" hil --attach "${ptys[0]}" "${ptys[1]}" --scenario dis_paper --seed 11 --compare-host --timeout 240
+"${lashid}" hil --attach "${ptys[0]}" "${ptys[1]}" --scenario dis_paper --config "${config}" --seed 11 --compare-host \
+  --timeout 240
 wait "${qemu_pid}"  # the firmware exits QEMU with 0 after a successful run
 qemu_pid=""
 
