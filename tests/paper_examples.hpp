@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace lashid::test {
 
@@ -41,5 +42,18 @@ struct AisExample {
   // the switch sits at C_d(v_m) = u_m there.
   static double F_a(double v) { return v == v_min ? u_m() : C_a(v); }
 };
+
+// Theta from the closed form: [a1, a2, b1 c1, b2 c1, ..., b1 c6, b2 c6], c_j = (F(V_j) - F(held)) / W_j.
+template <class Example, class F>
+std::vector<double> closed_form_theta(std::array<double, 2> a, std::array<double, 2> b, double held_level,
+                                      double held_output, F border) {
+  std::vector<double> theta{a[0], a[1]};
+  for (double V : Example::V) {
+    const double c = (border(V) - held_output) / (V - held_level);
+    theta.push_back(b[0] * c);
+    theta.push_back(b[1] * c);
+  }
+  return theta;
+}
 
 }  // namespace lashid::test

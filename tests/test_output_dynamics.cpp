@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "data_error_matchers.hpp"
-#include "sanitizer_budget.hpp"
+#include "output_dynamics_support.hpp"
 #include "lashid/operator_fit/damper_causes.hpp"
 #include "lashid/operator_fit/displacement_echo.hpp"
 #include "lashid/operator_fit/output_dynamics.hpp"
@@ -22,43 +22,11 @@ using namespace lashid::sim;
 
 using lashid::test::Contains;
 using lashid::test::error_of;
-
-constexpr double kRate = 1024.0;
-constexpr double kPi = std::numbers::pi;
-
-// A(q) = 1 - 2 r cos(theta) q^-1 + r^2 q^-2 of the continuous pair s = -zeta w +- i w sqrt(1 - zeta^2) sampled at
-// kRate (z = exp(s / kRate)), and b_0 = A(1), b_1 = b_2 = 0: static gain 1, the force reaches the sensor at once.
-OutputFilter resonance(double natural_hz, double zeta) {
-  const double w = 2 * kPi * natural_hz;
-  const double r = std::exp(-zeta * w / kRate);
-  const double theta = w * std::sqrt(1 - zeta * zeta) / kRate;
-  const double a1 = -2 * r * std::cos(theta), a2 = r * r;
-  return {{a1, a2}, {1 + a1 + a2, 0, 0}};
-}
-
-// The switch with constant borders +-1 on v = amplitude(t) sin(2 pi f t): +1 while v rises, -1 while it falls,
-// i.e. the sign of cos(2 pi f t) (the amplitude ramps slowly, so it does not move the reversals noticeably).
-std::vector<double> switch_output(double hz, double seconds) {
-  std::vector<double> w;
-  for (int t = 0; t < static_cast<int>(seconds * kRate); ++t) {
-    w.push_back(std::cos(2 * kPi * hz * t / kRate) >= 0 ? 1 : -1);
-  }
-  return w;
-}
-
-// y(t) = -a1 y(t-1) - a2 y(t-2) + b0 w(t), from rest at y0 = b0 w(0) / A(1) = w(0): written out here, not
-// OutputFilter::apply, so the test does not check the filter against itself.
-std::vector<double> through_resonance(const std::vector<double>& w, double natural_hz, double zeta) {
-  const OutputFilter f = resonance(natural_hz, zeta);
-  std::vector<double> y(w.size());
-  double y1 = w[0], y2 = w[0];
-  for (std::size_t t = 0; t < w.size(); ++t) {
-    y[t] = t == 0 ? w[0] : -f.a[0] * y1 - f.a[1] * y2 + f.b[0] * w[t];
-    y2 = y1;
-    y1 = y[t];
-  }
-  return y;
-}
+using lashid::test::kPi;
+using lashid::test::kRate;
+using lashid::test::resonance;
+using lashid::test::switch_output;
+using lashid::test::through_resonance;
 
 // ----------------------------------------------------------------------------------------- filter and poles
 
@@ -121,35 +89,6 @@ TEST(OutputDynamics, OutputErrorConvergesFromAWrongStart) {
   EXPECT_NEAR(p.natural_hz, 5.0, 1e-3);
   EXPECT_NEAR(p.zeta, 0.1, 1e-4);
   EXPECT_NEAR(f.dc_gain(), 1.0, 1e-4);
-}
-
-// Sensor noise biases the equation error (the regressors hold noisy outputs); the simulated error does not see it.
-TEST(OutputDynamics, NoisyMeasurementStillGivesTheResonanceAndTheOrder) {
-  LASHID_SKIP_UNDER_SANITIZERS("the noise-free OutputDynamics tests");
-  std::mt19937 rng(7);
-  std::normal_distribution<double> noise(0.0, 0.05);
-  std::vector<FilterData> files;
-  double best_fit = 0;  // mean over the files of 100 (1 - 0.05 / std(noise-free y)): the truth's own fit
-  for (const double hz : {0.5, 0.9, 1.3}) {
-    const std::vector<double> w = switch_output(hz, 6.0);
-    std::vector<double> y = through_resonance(w, 5.0, 0.1);
-    double mean = 0, var = 0;
-    for (const double x : y) mean += x / static_cast<double>(y.size());
-    for (const double x : y) var += (x - mean) * (x - mean) / static_cast<double>(y.size());
-    best_fit += 100 * (1 - 0.05 / std::sqrt(var)) / 3;
-    for (double& x : y) x += noise(rng);
-    files.push_back({w, y});
-  }
-  const OutputDynamicsFit fit = fit_output_dynamics(files);  // orders 2..4, one file held out at a time
-  ASSERT_EQ(fit.scores.size(), 3U);
-
-  EXPECT_EQ(fit.filter.order(), 2) << "a higher order must not earn its parameters on a 2nd-order truth";
-  FilterPole p;
-  ASSERT_TRUE(dominant_pole(filter_poles(fit.filter, kRate), &p));
-  EXPECT_NEAR(p.natural_hz, 5.0, 0.05);
-  EXPECT_NEAR(p.zeta, 0.1, 0.01);
-  // Only the noise is left: the fit is the truth's own, within what 9 parameters can take out of the noise.
-  EXPECT_NEAR(fit.fit_train, best_fit, 0.2);
 }
 
 TEST(OutputDynamics, BadInputIsAClearError) {
