@@ -2,10 +2,13 @@
 // Every expected value below is derived in the comments from the border formulas, not from running the code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -112,6 +115,62 @@ TEST(BorderReach, TableAndFunctionGiveTheSameCrossings) {
       }
     }
   }
+}
+
+// A long table's scans skip whole blocks of segments that cannot meet the level. The oracle: the same table cut
+// into pieces of at most 7 segments (too short to skip anything), each asked on its part of [a, b]; the last reach is
+// the largest of the pieces' answers, the first the smallest. Random tables with jumps and flat pieces, levels on
+// and between the stored values, and intervals that end on and between the abscissas.
+TEST(BorderReach, LongTablesAnswerAsTheirShortPiecesDo) {
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int hits = 0;
+  for (int table = 0; table < 200; ++table) {
+    const int count = 20 + static_cast<int>(unit(rng) * 70);
+    std::vector<std::pair<double, double>> points;
+    double x = -3.0, y = 0.0;
+    for (int i = 0; i < count; ++i) {
+      const bool jump = i > 0 && points.back().first == x ? false : unit(rng) < 0.1;
+      if (i > 0 && !jump) x += 0.05 + unit(rng) * 0.2;
+      if (unit(rng) > 0.15) y = std::sin(x) + (unit(rng) - 0.5);  // else flat: the same value again
+      points.emplace_back(x, y);
+    }
+    if (!(points.front().first < points.back().first)) continue;
+    const Border whole = Border::from_table(points);
+    std::vector<Border> pieces;
+    for (std::size_t first = 0; first + 1 < points.size(); first += 7) {
+      const std::size_t last = std::min(first + 7, points.size() - 1);
+      std::vector<std::pair<double, double>> piece(points.begin() + static_cast<std::ptrdiff_t>(first),
+                                                   points.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+      if (piece.front().first < piece.back().first) pieces.push_back(Border::from_table(piece));
+    }
+    const auto pick = [&](double lo, double hi) {
+      const double u = unit(rng);
+      if (u < 0.3) return points[static_cast<std::size_t>(unit(rng) * static_cast<double>(points.size() - 1))].first;
+      return lo + (hi - lo) * unit(rng);
+    };
+    for (int query = 0; query < 200; ++query) {
+      double a = pick(whole.lo(), whole.hi()), b = pick(whole.lo(), whole.hi());
+      if (a > b) std::swap(a, b);
+      const double level = unit(rng) < 0.3
+                               ? points[static_cast<std::size_t>(unit(rng) * static_cast<double>(points.size()))].second
+                               : -1.5 + 3.0 * unit(rng);
+      std::optional<double> last, first;
+      for (const Border& p : pieces) {
+        const double pa = std::max(a, p.lo()), pb = std::min(b, p.hi());
+        if (!(pa <= pb)) continue;
+        if (const auto r = p.last_reach(level, pa, pb); r && (!last || *r > *last)) last = r;
+        if (const auto r = p.first_reach(level, pa, pb); r && (!first || *r < *first)) first = r;
+      }
+      ASSERT_EQ(whole.last_reach(level, a, b), last) << "table " << table << " query " << query;
+      ASSERT_EQ(whole.first_reach(level, a, b), first) << "table " << table << " query " << query;
+      ASSERT_EQ(whole.reaches(level, a, b, Border::Scan::from_right), last.has_value());
+      ASSERT_EQ(whole.reaches(level, a, b, Border::Scan::from_left), last.has_value());
+      hits += last.has_value();
+    }
+  }
+  EXPECT_GT(hits, 5000);  // both answers are exercised (200 x 200 queries)
+  EXPECT_LT(hits, 35000);
 }
 
 TEST(BorderReach, OscillatingBorderAgreesWithTheRangeOfSine) {
