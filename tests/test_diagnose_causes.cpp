@@ -119,7 +119,7 @@ TEST(DiagnosePairs, NamesBothHiddenCausesOnCurvedBorders) {
   }
 }
 
-// The mechanisms of session 6, each on the tuning seeds (docs/diagnose.md) where it was seen to matter, so that
+// The mechanisms of session 6, each on the tuning seeds (docs/diagnose-history.md) where it was seen to matter, so that
 // each test fails without its mechanism (the answers without it are given; the truth is the generator's).
 
 // The IV check: sensor noise alone, which an input lag (seed 1005: lambda 0.68, val 44.6 % -> 71.7 %) or a dead

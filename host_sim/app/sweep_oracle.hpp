@@ -1,6 +1,6 @@
-// diagnose-sweep --oracle (docs/diagnose.md, "What still fails"): the generator's own plant put on a fitted model's
-// border tables, to tell whether a miss comes from the model class (the truth fits no better than the fit) or from
-// the estimator (the truth, in the same class, fits far better than the estimate).
+// diagnose-sweep --oracle (docs/diagnose-history.md, "Where a backlash's lambda is lost"): the generator's own plant
+// put on a fitted model's border tables, to tell whether a miss comes from the model class (the truth fits no better
+// than the fit) or from the estimator (the truth, in the same class, fits far better than the estimate).
 #pragma once
 
 #include <optional>

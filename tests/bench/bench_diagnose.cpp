@@ -1,6 +1,7 @@
 // Time of `lashid diagnose` (issue 12: at most 2 s per diagnosis of a 15,000-sample recording) and of the joint
-// model's normal equations, the part of a fit that every one of a diagnosis' ~1,000 fits pays. Reported in
-// docs/diagnose.md ("Time"); never asserted (the machines are shared).
+// model's normal equations, the part of a fit that every one of a diagnosis' ~1,000 fits pays. How to run it:
+// docs/diagnose.md ("Time"); its results: docs/diagnose-history.md ("Time, session by session"); never asserted (the
+// machines are shared).
 //
 // The recordings are the generator's (curved borders), on test seeds whose diagnosis was among the slowest
 // measured: colored_noise 9642 (n = 3, m = 6, backlash) and the pair input_lag + sensor_drift 9600.

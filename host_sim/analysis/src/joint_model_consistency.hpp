@@ -1,4 +1,4 @@
-// Regime consistency of a backlash fit (docs/diagnose.md, "Where a backlash's lambda is lost").
+// Regime consistency of a backlash fit (docs/diagnose-history.md, "Where a backlash's lambda is lost").
 //
 // A backlash's regimes (which samples move along a border, which hold) come from its borders; least squares fits
 // the borders for given regimes and does not see the condition that makes those regimes the model's own: while the

@@ -1,5 +1,5 @@
-// Regime search of a backlash fit (ModelStructure::regime_search; docs/diagnose.md, "Where a backlash's lambda is
-// lost").
+// Regime search of a backlash fit (ModelStructure::regime_search; docs/diagnose-history.md, "Where a backlash's lambda
+// is lost").
 //
 // The regime iteration (fit_joint_model) refits from the regimes the last fit's borders give and stops once the
 // regression error no longer falls. It can end where least squares fits the data well with regimes that the

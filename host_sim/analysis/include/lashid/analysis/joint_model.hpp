@@ -58,12 +58,12 @@ struct ModelStructure {
   /// Backlash only: every least-squares fit is held to the regimes it is fitted with (penalty rows on the borders
   /// where the model's own backlash would move or hold otherwise, joint_model_consistency.hpp), and a fit that
   /// takes its own regimes ends the regime iteration. Off in the diagnosis: on the tuning seeds it made the
-  /// fits from the true regimes consistent but the diagnosis worse and 4 times slower (docs/diagnose.md).
+  /// fits from the true regimes consistent but the diagnosis worse and 4 times slower (docs/diagnose-history.md).
   bool regime_consistency = false;
   /// Backlash only: after the regime iteration, a search over the pulse experiments' periodic regime pattern,
   /// judged by the model's own one-step error (joint_model_regime_search.hpp). About 2T fits per change, T the
   /// pulse period. Off in the diagnosis: on the tuning seeds it cut the true-lag fits' own error but not the
-  /// misses, at several times the cost (docs/diagnose.md); `diagnose-sweep --oracle` reports it.
+  /// misses, at several times the cost (docs/diagnose-history.md); `diagnose-sweep --oracle` reports it.
   bool regime_search = false;
 };
 
