@@ -170,18 +170,21 @@ std::size_t best_cross(const LagPath& p) {
   return best;
 }
 
-// Every point of the path cross-validated within val (each fold from the point's own model's regimes): the pooled
-// simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of energies)). The two folds run on
-// two threads; the result does not depend on it.
+// The points of the path whose RSS is at most max_rss, cross-validated within val (each fold from the point's own
+// model's regimes): the pooled simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of
+// energies)); the others keep -infinity. The two folds run on two threads; the result does not depend on it.
 template <class Fit>
-void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data) {
+void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data, double max_rss) {
   const std::size_t count = path.model.size();
+  const auto fold = [&](std::size_t k, std::vector<HeldOutError>& out) {
+    for (std::size_t i = 0; i < count; ++i) {
+      if (path.model[i].rss <= max_rss) out[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data);
+    }
+  };
   std::vector<HeldOutError> second(count);
-  auto other = std::async(std::launch::async, [&] {
-    for (std::size_t i = 0; i < count; ++i) second[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 1, data);
-  });
+  auto other = std::async(std::launch::async, [&] { fold(1, second); });
   std::vector<HeldOutError> first(count);
-  for (std::size_t i = 0; i < count; ++i) first[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, 0, data);
+  fold(0, first);
   other.get();
   for (std::size_t i = 0; i < count; ++i) {
     const double error = first[i].error + second[i].error, total = first[i].total + second[i].total;
@@ -261,7 +264,8 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const bool cross = options.lag_cross_validation && significant(likelihood_ratio(current, fine_rss), options);
   // The folds copy the recording: made only where they are used.
   const ValFolds folds = cross ? val_folds(data, val) : ValFolds{};
-  if (cross) cross_validate(fine, path, folds, data);
+  const double max_cross_rss = options.lag_cross_validated_rss * fine_rss.rss;
+  if (cross) cross_validate(fine, path, folds, data, max_cross_rss);
   const double samples = static_cast<double>(best_coarse.rows);
   const double gain = samples * std::log(best_coarse.rss / fine_rss.rss);
   const double cost = static_cast<double>(fine_rss.parameters - best_coarse.parameters) * std::log(samples);
@@ -277,7 +281,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   }
   LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false);
   if (cross) {
-    cross_validate(fine, near, folds, data);
+    cross_validate(fine, near, folds, data, max_cross_rss);
     const std::size_t near_at = best_cross(near);
     const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
     JointModel chosen = on_path ? path.model[at] : near.model[near_at];
