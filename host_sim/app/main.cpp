@@ -235,8 +235,9 @@ namespace {
 
 // The diagnosis fits hundreds of models, each allocating and freeing a few MB (normal equations, residuals). With
 // glibc's defaults the heap's top is returned to the system after each and faulted in again: 2,000 brk calls
-// and 0.6 s of system time in a 2.5 s diagnosis (docs/diagnose-history.md, "Time, session by session"). A 64 MB top
-// pad and a 256 MB trim threshold keep the pages: the same diagnosis takes 1.8 s.
+// and 0.6 s of system time in a 2.5 s diagnosis (session 6's measurement, not repeated since; the policy is listed in
+// docs/diagnose-history.md, "Time, session by session"). A 64 MB top pad and a 256 MB trim threshold keep the pages:
+// the same diagnosis took 1.8 s.
 void keep_freed_heap_pages() {
 #if defined(__GLIBC__)
   mallopt(M_TOP_PAD, 64 << 20);

@@ -4,7 +4,8 @@
 // machines are shared).
 //
 // The recordings are the generator's (curved borders), on test seeds whose diagnosis was among the slowest
-// measured: colored_noise 9642 (n = 3, m = 6, backlash) and the pair input_lag + sensor_drift 9600.
+// measured: colored_noise 9642 (n = 3, m = 6, backlash), the pair input_lag + sensor_drift 9600, and sensor_drift 10669
+// (n = 3, m = 6, backlash), the slowest of the held-out seeds 10600-10699.
 #include <vector>
 
 #if defined(__GLIBC__)
@@ -43,6 +44,10 @@ BENCHMARK_CAPTURE(BM_Diagnose, colored_noise_9642, std::vector<Cause>{Cause::kCo
     ->Iterations(3);
 BENCHMARK_CAPTURE(BM_Diagnose, input_lag_sensor_drift_9600, std::vector<Cause>{Cause::kInputLag, Cause::kSensorDrift},
                   9600)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_Diagnose, sensor_drift_10669, std::vector<Cause>{Cause::kSensorDrift}, 10669)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
