@@ -38,9 +38,12 @@ struct Border::Data {
   std::vector<double> segment_block_min;
   std::vector<double> segment_block_max;
 
-  // Whether full segment block j may hold a point on `level` (its points' range includes it).
-  bool block_spans(std::size_t j, double level) const {
-    return segment_block_min[j] <= level && level <= segment_block_max[j];
+  // Whether the full segment block starting at point `first` (a multiple of kSegmentBlock) lies inside [a, b] and
+  // its points' range excludes `level`: then no segment of it meets the level, and a scan may skip it whole.
+  bool block_skippable(std::size_t first, double level, double a, double b) const {
+    const std::size_t j = first / kSegmentBlock;
+    return xs[first] >= a && xs[first + kSegmentBlock] <= b &&
+           !(segment_block_min[j] <= level && level <= segment_block_max[j]);
   }
 
   // Callable border: function, cached grid nodes and the bisection stopping width.
@@ -99,13 +102,10 @@ struct Border::Data {
       k = std::min(k == 0 ? 0 : k - 1, segments - 1);
       for (std::size_t i = k + 1; i-- > 0;) {
         if (xs[i + 1] < a) break;
-        // At the top segment of a full block lying inside [a, b]: skipped whole if it cannot meet the level.
-        if ((i + 1) % kSegmentBlock == 0) {
-          const std::size_t first = i + 1 - kSegmentBlock;
-          if (xs[first] >= a && xs[i + 1] <= b && !block_spans(first / kSegmentBlock, level)) {
-            i = first;  // the loop goes on at first - 1
-            continue;
-          }
+        // At the top segment of a full block: skipped whole where it cannot meet the level.
+        if ((i + 1) % kSegmentBlock == 0 && block_skippable(i + 1 - kSegmentBlock, level, a, b)) {
+          i = i + 1 - kSegmentBlock;  // the loop goes on at the block's first segment - 1
+          continue;
         }
         if (auto hit = segment_hit(i, level, a, b, true)) return hit;
       }
@@ -114,13 +114,10 @@ struct Border::Data {
       const auto k = static_cast<std::size_t>(std::lower_bound(xs.begin(), xs.end(), a) - xs.begin());
       for (std::size_t i = k == 0 ? 0 : k - 1; i < segments; ++i) {
         if (xs[i] > b) break;
-        // At the first segment of a full block lying inside [a, b]: skipped whole if it cannot meet the level.
-        if (i % kSegmentBlock == 0 && i + kSegmentBlock <= segments) {
-          const std::size_t last = i + kSegmentBlock;  // the block's last point
-          if (xs[i] >= a && xs[last] <= b && !block_spans(i / kSegmentBlock, level)) {
-            i = last - 1;  // the loop goes on at last
-            continue;
-          }
+        // At the first segment of a full block: skipped whole where it cannot meet the level.
+        if (i % kSegmentBlock == 0 && i + kSegmentBlock <= segments && block_skippable(i, level, a, b)) {
+          i += kSegmentBlock - 1;  // the loop goes on at the next block's first segment
+          continue;
         }
         if (auto hit = segment_hit(i, level, a, b, false)) return hit;
       }
@@ -305,16 +302,16 @@ Border Border::from_table(std::vector<std::pair<double, double>> points) {
   }
   data->lo = data->xs.front();
   data->hi = data->xs.back();
+  if (!(data->lo < data->hi)) {
+    throw std::invalid_argument("Border::from_table: point " + std::to_string(points.size() - 1) +
+                                " leaves a zero-width domain (all abscissas equal)");
+  }
   const std::size_t segments = data->xs.size() - 1;
   for (std::size_t first = 0; first + Data::kSegmentBlock <= segments; first += Data::kSegmentBlock) {
     const auto begin = data->ys.begin() + static_cast<std::ptrdiff_t>(first);
     const auto [low, high] = std::minmax_element(begin, begin + static_cast<std::ptrdiff_t>(Data::kSegmentBlock + 1));
     data->segment_block_min.push_back(*low);
     data->segment_block_max.push_back(*high);
-  }
-  if (!(data->lo < data->hi)) {
-    throw std::invalid_argument("Border::from_table: point " + std::to_string(points.size() - 1) +
-                                " leaves a zero-width domain (all abscissas equal)");
   }
   return Border(std::move(data));
 }
