@@ -113,23 +113,12 @@ int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const 
     // zx offset = sum_i b_i (W_(b'_i) - c_0 zx_(i, 0)).
     Eigen::MatrixXd W(K, R);
     W.leftCols(n) = zx.leftCols(n);
-    // Each sum starts from its first term rather than from zeros (a quarter of a megabyte per step at n = 3, m = 6;
-    // 0 + x = x keeps the sums bit for bit).
-    if (kept_k == 0) W.middleCols(n, n).setZero();
+    W.middleCols(n, n + kept_c).setZero();
     for (int i = 0; i < n; ++i) {
       for (Eigen::Index q = 0; q < kept_k; ++q) {
         const auto column = zx.col(block(i) + q);
-        if (q == 0) {
-          W.col(n + i) = c_kept(q) * column;
-        } else {
-          W.col(n + i) += c_kept(q) * column;
-        }
-        if (q < first_c) continue;
-        if (i == 0) {
-          W.col(2 * n + q - first_c) = b(i) * column;
-        } else {
-          W.col(2 * n + q - first_c) += b(i) * column;
-        }
+        W.col(n + i) += c_kept(q) * column;
+        if (q >= first_c) W.col(2 * n + q - first_c) += b(i) * column;
       }
     }
     W.rightCols(extras) = zx.rightCols(extras);
@@ -143,18 +132,13 @@ int refine_rank_one(const Eigen::MatrixXd& zx, const Eigen::VectorXd& zy, const 
     Eigen::VectorXd g(R);
     M.topRows(n) = W.topRows(n);
     g.head(n) = rhs_full.head(n);
-    // The c' rows start from lag 1's term rather than from zeros: zeroing a block of rows is one memset per column
-    // (about 5 % of a diagnosis's instructions), and 0 + x = x keeps the sums bit for bit.
+    M.middleRows(2 * n, kept_c).setZero();
+    g.segment(2 * n, kept_c).setZero();
     for (int i = 0; i < n; ++i) {
       M.row(n + i).noalias() = c_kept.transpose() * W.middleRows(block(i), kept_k);
       g(n + i) = c_kept.dot(rhs_full.segment(block(i), kept_k));
-      if (i == 0) {
-        M.middleRows(2 * n, kept_c) = b(i) * W.middleRows(block(i) + first_c, kept_c);
-        g.segment(2 * n, kept_c) = b(i) * rhs_full.segment(block(i) + first_c, kept_c);
-      } else {
-        M.middleRows(2 * n, kept_c) += b(i) * W.middleRows(block(i) + first_c, kept_c);
-        g.segment(2 * n, kept_c) += b(i) * rhs_full.segment(block(i) + first_c, kept_c);
-      }
+      M.middleRows(2 * n, kept_c) += b(i) * W.middleRows(block(i) + first_c, kept_c);
+      g.segment(2 * n, kept_c) += b(i) * rhs_full.segment(block(i) + first_c, kept_c);
     }
     M.bottomRows(extras) = W.bottomRows(extras);
     g.tail(extras) = rhs_full.segment(extra_at, extras);
