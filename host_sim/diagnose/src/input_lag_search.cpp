@@ -264,12 +264,12 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const bool cross = options.lag_cross_validation && significant(likelihood_ratio(current, fine_rss), options);
   // The folds copy the recording: made only where they are used.
   const ValFolds folds = cross ? val_folds(data, val) : ValFolds{};
-  const double max_cross_rss = options.lag_cross_validated_rss * fine_rss.rss;
+  const double min_rss = fine_rss.rss;
+  const double max_cross_rss = options.lag_cross_validated_rss * min_rss;
   if (cross) cross_validate(fine, path, folds, data, max_cross_rss);
   const double samples = static_cast<double>(best_coarse.rows);
-  const double gain = samples * std::log(best_coarse.rss / fine_rss.rss);
+  const double gain = samples * std::log(best_coarse.rss / min_rss);
   const double cost = static_cast<double>(fine_rss.parameters - best_coarse.parameters) * std::log(samples);
-  const double min_rss = fine_rss.rss;
   std::size_t at = cross ? best_cross(path) : best_val(path, min_rss, options.lag_val_window);
   if (at == path.model.size()) at = best_val(path, min_rss, options.lag_val_window);
   const double coarse_val = simulation_fit(best_coarse, data, val.first, val.second);
