@@ -223,6 +223,9 @@ JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, 
   model.b.assign(b.data(), b.data() + n);
   border_values(layout.descending, c, columns.excited, model.descending_v, model.descending_u);
   border_values(layout.ascending, c, columns.excited, model.ascending_v, model.ascending_u);
+  if (structure.non_negative_play && structure.op == OperatorKind::kBacklash && structure.border_segments > 1) {
+    detail::give_non_negative_play(model);
+  }
   model.ok = true;
   return model;
 }

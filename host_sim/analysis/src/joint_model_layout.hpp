@@ -71,4 +71,8 @@ HatRow hat_row(const BorderLayout& border, double w);
 /// `current` (the previous fit) when given, otherwise the switch's regimes are used as the first guess.
 Basis operator_basis(const Layout& layout, const std::vector<double>& w, OperatorKind op, const JointModel* current);
 
+/// A backlash's play made non-negative on its finer tables: C~_a lowered to C~_d where it lies above it, C~_d
+/// raised to C~_a (ModelStructure::non_negative_play; each table's other border read linearly between its points).
+void give_non_negative_play(JointModel& model);
+
 }  // namespace lashid::sim::detail
