@@ -288,8 +288,9 @@ TEST(JointModel, RegimeSearchBringsABacklashFitToItsOwnRegimes) {
 }
 
 // ModelStructure::non_negative_play, at the true input lag behind a backlash (curved borders, seed 5003, found by
-// fitting the true structure on seeds 5000-5060: 10 of their 31 backlashes simulated val at -60 to -100 % with
-// crossing allowed). The generator's play is never negative (C_d - C_a = 2 half_gap >= 0, hidden_effect.cpp).
+// fitting the true structure on seeds 5000-5060: with crossing allowed 11 of their 31 backlashes simulated val at
+// -60 to -176 %; with the rule 9 of the 11 at 48 to 97 %, while 5005 stays at -26 % and 5056 falls to -925 %). The
+// generator's play is never negative (C_d - C_a = 2 half_gap >= 0, hidden_effect.cpp).
 // Fitted with crossing allowed, the borders cross, and the model's own backlash holds at one level through all of
 // val. With the rule no table point has C~_a above C~_d (read through Border, a second implementation of the
 // tables' interpolation), the backlash moves through val, and the model follows the generator's noise-free val
