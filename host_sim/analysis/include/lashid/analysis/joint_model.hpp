@@ -58,7 +58,8 @@ struct ModelStructure {
   /// Backlash with the finer tables (border_segments > 1) only: C~_a <= C~_d at every table point, the backlash's
   /// play non-negative. Where the fitted borders cross beside the end points, where they meet, a lagged input
   /// that never reaches the end exactly leaves the model's backlash holding for good (docs/diagnose.md). Off: the
-  /// borders as fitted, crossing allowed (the paper's class, which the nominal model keeps).
+  /// borders as fitted, crossing allowed (the paper's class, which the nominal model keeps). `rss` and `residuals`
+  /// stay the regression's, from the borders before the play is made non-negative.
   bool non_negative_play = true;
   /// Backlash only: every least-squares fit is held to the regimes it is fitted with (penalty rows on the borders
   /// where the model's own backlash would move or hold otherwise, joint_model_consistency.hpp), and a fit that
