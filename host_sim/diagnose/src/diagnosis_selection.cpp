@@ -52,6 +52,11 @@ double best_fit(double least_squares, double instrumental) {
   return std::isnan(instrumental) ? least_squares : std::max(least_squares, instrumental);
 }
 
+// An input lag whose lambda was chosen on val (the finer border tables): choosing it there flatters its val fit.
+bool lambda_chosen_on_val(const CandidateCause& c) {
+  return c.cause == Cause::kInputLag && c.model.structure.border_segments > 1;
+}
+
 // Whether a structural extension of `current` is supported: significant on the identification phases, explaining
 // the residual correlation (white residuals, most of the Ljung-Box statistic gone, or a large val gain when a
 // coloured disturbance keeps the residuals coloured whatever the structure), and better on val (the val check).
@@ -63,9 +68,8 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
   // Like is compared with like: the extension counts with its own IV fit where that is better (a real dead time
   // next to coloured noise: least squares biases its val fit, IV does not).
   const double extended = best_fit(c.fit_val, c.fit_instrumental);
-  // An input lag whose lambda was chosen on val (the finer border tables) has a val fit flattered by that choice:
-  // it must beat the IV fit by options.lag_val_optimism.
-  const bool lambda_on_val = c.cause == Cause::kInputLag && c.model.structure.border_segments > 1;
+  // An input lag whose lambda was chosen on val must beat the IV fit by options.lag_val_optimism.
+  const bool lambda_on_val = lambda_chosen_on_val(c);
   // With output error in the checks, an extension whose residuals are white has left no coloured disturbance to
   // absorb: the check does not apply (a true dead time of one sample lost to the nominal structure's output-error
   // fit, which nearly contains it: tuning seeds 1144 and 1162, residuals white with the delay).
@@ -292,8 +296,11 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   // Candidates are ranked by val, like with like where options.instrumental_ranking (under sensor noise a dead
   // time's least-squares val fit lost to an input lag's that absorbs the noise; its IV fit did not: tuning seeds
   // 1032 and 1036 of dead_time+colored_noise).
+  // An input lag whose lambda was chosen on val counts lag_val_optimism less (options.lag_optimism_in_ranking), as
+  // in the IV check.
   const auto ranked = [&](const CandidateCause& c) {
-    return options.instrumental_ranking ? best_fit(c.fit_val, c.fit_instrumental) : c.fit_val;
+    const double fit = options.instrumental_ranking ? best_fit(c.fit_val, c.fit_instrumental) : c.fit_val;
+    return options.lag_optimism_in_ranking && lambda_chosen_on_val(c) ? fit - options.lag_val_optimism : fit;
   };
   // A drift on top of an input lag whose lambda was searched without it: if the drift is significant and explains
   // the residual correlation but the val checks reject it, lambda is searched again with the drift in (a drift

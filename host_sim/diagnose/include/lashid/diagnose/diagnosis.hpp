@@ -124,6 +124,10 @@ struct DiagnosisOptions {
   /// Choosing lambda on val flatters a fine-border input-lag model's val fit (by a median 2.6 points over the RSS
   /// minimum on tuning seeds, session 6): in the IV check such a model must beat the IV fit by this many points.
   double lag_val_optimism = 3.0;
+  /// And when the supported candidates of a round are ranked by their val fits, such a model's counts
+  /// lag_val_optimism points less (session 23: with non-negative play the lag's model, on a true switch believed a
+  /// backlash, beat the dead time by 1.5 points in the first round; tuning seeds 1040-1239, pairs 720 -> 726).
+  bool lag_optimism_in_ranking = true;
   /// Like with like: every structural candidate is also fitted by instrumental variables, and ranked and judged
   /// ("explains", above) by the better of its two val fits against the better of the current model's two. Under
   /// sensor noise least squares biases a real drift's val fit as much as the nominal model's.
