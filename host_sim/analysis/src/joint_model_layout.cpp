@@ -39,15 +39,6 @@ void subdivide(BorderLayout& border, int segments, int& parameters) {
   border = std::move(fine);
 }
 
-// The value at x of a table (ascending abscissas), linear between its points and constant beyond its ends.
-double table_value(const std::vector<double>& x, const std::vector<double>& u, double at) {
-  if (at <= x.front()) return u.front();
-  if (at >= x.back()) return u.back();
-  const auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), at) - x.begin());
-  const double f = (at - x[k - 1]) / (x[k] - x[k - 1]);
-  return u[k - 1] + f * (u[k] - u[k - 1]);
-}
-
 }  // namespace
 
 HatRow hat_row(const BorderLayout& border, double w) {
@@ -132,12 +123,13 @@ Basis operator_basis(const Layout& layout, const std::vector<double>& w, Operato
 // true-lag fits of most missed backlashes did that, and their val simulation sat at one level (fit -75 to -110 %).
 // The paper allows crossing borders (its Fig. 4); the nominal model, on the experiment's abscissas, still does.
 void give_non_negative_play(JointModel& model) {
-  const std::vector<double> asc = model.ascending_u, desc = model.descending_u;
-  for (std::size_t i = 0; i < asc.size(); ++i) {
-    model.ascending_u[i] = std::min(asc[i], table_value(model.descending_v, desc, model.ascending_v[i]));
+  const Border ascending = table_border(model.ascending_v, model.ascending_u);
+  const Border descending = table_border(model.descending_v, model.descending_u);
+  for (std::size_t i = 0; i < model.ascending_u.size(); ++i) {
+    model.ascending_u[i] = std::min(model.ascending_u[i], descending(model.ascending_v[i]));
   }
-  for (std::size_t i = 0; i < desc.size(); ++i) {
-    model.descending_u[i] = std::max(desc[i], table_value(model.ascending_v, asc, model.descending_v[i]));
+  for (std::size_t i = 0; i < model.descending_u.size(); ++i) {
+    model.descending_u[i] = std::max(model.descending_u[i], ascending(model.descending_v[i]));
   }
 }
 

@@ -19,15 +19,11 @@ namespace lashid::sim {
 
 namespace detail {
 
-namespace {
-
 Border table_border(const std::vector<double>& x, const std::vector<double>& u) {
   std::vector<std::pair<double, double>> points;
   for (std::size_t i = 0; i < x.size(); ++i) points.emplace_back(x[i], u[i]);
   return Border::from_table(std::move(points));
 }
-
-}  // namespace
 
 std::unique_ptr<HysteresisOperator> make_model_operator(const JointModel& model, double w0) {
   Border asc = table_border(model.ascending_v, model.ascending_u);

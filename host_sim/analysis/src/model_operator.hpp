@@ -6,9 +6,14 @@
 #include <vector>
 
 #include "lashid/analysis/joint_model.hpp"
+#include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
 
 namespace lashid::sim::detail {
+
+/// One of the model's border tables (abscissas x, values u) as a Border: linear between its points, constant
+/// beyond its ends.
+Border table_border(const std::vector<double>& x, const std::vector<double>& u);
 
 /// The model's operator (switch or backlash with its table borders), reset to (w0, C_d(w0)).
 std::unique_ptr<HysteresisOperator> make_model_operator(const JointModel& model, double w0);

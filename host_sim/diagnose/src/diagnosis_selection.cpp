@@ -295,9 +295,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   };
   // Candidates are ranked by val, like with like where options.instrumental_ranking (under sensor noise a dead
   // time's least-squares val fit lost to an input lag's that absorbs the noise; its IV fit did not: tuning seeds
-  // 1032 and 1036 of dead_time+colored_noise).
-  // An input lag whose lambda was chosen on val counts lag_val_optimism less (options.lag_optimism_in_ranking), as
-  // in the IV check.
+  // 1032 and 1036 of dead_time+colored_noise), a lag chosen on val less its optimism as in the IV check.
   const auto ranked = [&](const CandidateCause& c) {
     const double fit = options.instrumental_ranking ? best_fit(c.fit_val, c.fit_instrumental) : c.fit_val;
     return options.lag_optimism_in_ranking && lambda_chosen_on_val(c) ? fit - options.lag_val_optimism : fit;
