@@ -159,9 +159,9 @@ TEST(JointModel, RegimeSearchBringsABacklashFitToItsOwnRegimes) {
 // -60 to -176 %; with the rule 9 of the 11 at 48 to 97 %, while 5005 stays at -26 % and 5056 falls to -925 %). The
 // generator's play is never negative (C_d - C_a = 2 half_gap >= 0, hidden_effect.cpp).
 // Fitted with crossing allowed, the borders cross, and the model's own backlash holds at one level through all of
-// val. With the rule no table point has C~_a above C~_d (read through Border, a second implementation of the
-// tables' interpolation), the backlash moves through val, and the model follows the generator's noise-free val
-// output (the truth, not the measurement).
+// val. With the rule no table point has C~_a above C~_d (read through Border, as the rule itself reads it: this
+// checks that the rule ran, not the interpolation), the backlash moves through val, and the model follows the
+// generator's noise-free val output (the truth, not the measurement).
 TEST(JointModel, NonNegativePlayKeepsALaggedBacklashFromHoldingForGood) {
   const HiddenEffectCase c = curved_lag_case(5003);
   ASSERT_EQ(c.effect.true_operator, OperatorKind::kBacklash);
