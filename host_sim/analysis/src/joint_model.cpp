@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -329,12 +330,15 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     return std::pair{std::move(model), std::move(phi)};
   };
   const bool from_initial = initial != nullptr && initial->ok && structure.op == OperatorKind::kBacklash;
+  // With two starts, the second runs on a second thread (the two iterations share nothing but their inputs).
+  std::future<std::pair<JointModel, Basis>> second;
+  if (from_initial && !only_from_initial) second = std::async(std::launch::async, fit_from, initial);
   auto [model, phi] = fit_from(from_initial && only_from_initial ? initial : nullptr);
   if (from_initial && only_from_initial && !model.ok) {
     // The one start failed (e.g. its regimes leave a border point the fit needs unexcited): try the other.
     std::tie(model, phi) = fit_from(nullptr);
-  } else if (from_initial && !only_from_initial) {
-    auto [other, other_phi] = fit_from(initial);
+  } else if (second.valid()) {
+    auto [other, other_phi] = second.get();
     // With regime consistency the starts are compared by their own one-step error: a fit that breaks its regimes
     // can have the lower regression error.
     const auto error = [&](const JointModel& m) { return consistency ? self_consistent_rss(m, data) : m.rss; };

@@ -3,10 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include "lashid/stats/statistics.hpp"
+#include "two_threads.hpp"
 
 namespace lashid::sim::detail {
 
@@ -46,21 +49,27 @@ double identification_simulation_sse(const JointModel& model, const FlatRecordin
 // fit often diverges); the least-squares model at that delay is returned (IV is the colored_noise extension's).
 JointModel search_dead_time(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
                             const DiagnosisOptions& options) {
+  // Each delay's fits on two threads (they do not depend on each other), judged in order of the delay.
+  const auto delays = static_cast<std::size_t>(std::max(options.max_delay, 0));
+  std::vector<JointModel> fits(delays);
+  std::vector<double> simulation(delays, std::numeric_limits<double>::infinity());
+  on_two_threads(delays, [&](std::size_t i) {
+    ModelStructure s = current.structure;
+    s.delay = static_cast<int>(i) + 1;
+    fits[i] = fit_joint_model(config, data, s, &current);
+    if (!fits[i].ok || !options.delay_by_simulation) return;
+    s.instrumental = true;
+    const JointModel iv = fit_joint_model(config, data, s, &fits[i]);
+    if (iv.ok) simulation[i] = identification_simulation_sse(iv, data);
+  });
   JointModel by_rss = current, by_simulation;
   double simulation_sse = std::numeric_limits<double>::infinity();
-  for (int d = 1; d <= options.max_delay; ++d) {
-    ModelStructure s = current.structure;
-    s.delay = d;
-    JointModel m = fit_joint_model(config, data, s, &current);
+  for (std::size_t i = 0; i < delays; ++i) {
+    JointModel& m = fits[i];
     if (!m.ok) continue;
-    if (options.delay_by_simulation) {
-      s.instrumental = true;
-      const JointModel iv = fit_joint_model(config, data, s, &m);
-      const double sse = iv.ok ? identification_simulation_sse(iv, data) : std::numeric_limits<double>::infinity();
-      if (sse < simulation_sse) {
-        simulation_sse = sse;
-        by_simulation = m;
-      }
+    if (options.delay_by_simulation && simulation[i] < simulation_sse) {
+      simulation_sse = simulation[i];
+      by_simulation = m;
     }
     if (by_rss.structure.delay == 0 || m.rss < by_rss.rss) by_rss = std::move(m);
   }
@@ -198,6 +207,17 @@ void score_candidate(CandidateCause& c, const JointModel& before, std::span<cons
     c.statistic = c.likelihood_ratio;
     c.p_value = stats::chi2_sf(std::max(c.statistic, 0.0), 1.0);
   }
+}
+
+std::vector<CandidateCause> candidates_for(const std::vector<Cause>& causes,
+                                           const std::function<CandidateCause(Cause)>& make) {
+  std::vector<std::future<CandidateCause>> made;
+  made.reserve(causes.size());
+  for (Cause cause : causes) made.push_back(std::async(std::launch::async, make, cause));
+  std::vector<CandidateCause> out;
+  out.reserve(causes.size());
+  for (auto& m : made) out.push_back(m.get());
+  return out;
 }
 
 }  // namespace lashid::sim::detail

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <span>
 #include <utility>
@@ -49,5 +50,11 @@ CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording&
 void score_candidate(CandidateCause& candidate, const JointModel& before, std::span<const double> before_val,
                      const FlatRecording& data, std::size_t val_begin, std::size_t val_end,
                      const DiagnosisOptions& options);
+
+/// One candidate per cause, in order, made by `make`, each on its own thread (a candidate only reads the data and
+/// the model it extends; the input lag's search costs about as much as all the others together). The answers do
+/// not depend on it.
+std::vector<CandidateCause> candidates_for(const std::vector<Cause>& causes,
+                                           const std::function<CandidateCause(Cause)>& make);
 
 }  // namespace lashid::sim::detail

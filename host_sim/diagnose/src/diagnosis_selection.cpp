@@ -3,6 +3,7 @@
 #include "diagnosis_selection.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <future>
 #include <iterator>
@@ -11,25 +12,9 @@
 #include <utility>
 
 #include "lashid/estimator/design.hpp"
+#include "two_threads.hpp"
 
 namespace lashid::sim::detail {
-
-std::vector<CandidateCause> candidates_for(const std::vector<Cause>& causes,
-                                           const std::function<CandidateCause(Cause)>& make) {
-  std::vector<CandidateCause> out(causes.size());
-  std::future<CandidateCause> lag;
-  const auto is_lag = [&](std::size_t i) { return causes[i] == Cause::kInputLag; };
-  for (std::size_t i = 0; i < causes.size(); ++i) {
-    if (is_lag(i)) lag = std::async(std::launch::async, make, causes[i]);
-  }
-  for (std::size_t i = 0; i < causes.size(); ++i) {
-    if (!is_lag(i)) out[i] = make(causes[i]);
-  }
-  for (std::size_t i = 0; i < causes.size(); ++i) {
-    if (is_lag(i)) out[i] = lag.get();
-  }
-  return out;
-}
 
 namespace {
 
@@ -320,7 +305,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     if (structural_accepted(lag, current, options)) c = std::move(lag);
   };
   while (!round.empty()) {
-    for (CandidateCause& c : round) instrumental_fit(c);
+    on_two_threads(round.size(), [&](std::size_t i) { instrumental_fit(round[i]); });
     for (CandidateCause& c : round) research_lag(c);
     const CandidateCause* best = nullptr;
     for (const CandidateCause& c : round) {
@@ -338,14 +323,21 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
       accept(d, current, *best, data);
     } else if (structural.size() >= 2) {
       // Both orders: a parameter searched without the other cause can be far off (an input lag's lambda, chosen
-      // by val, without the drift that dominates val), and the second is searched on top of the first.
-      const CandidateCause* first = nullptr;
-      CandidateCause both;
-      for (const auto& [a, b] : {std::pair{structural[0], structural[1]}, std::pair{structural[1], structural[0]}}) {
+      // by val, without the drift that dominates val), and the second is searched on top of the first. The two
+      // orders are independent: the second on a second thread, judged after the first as a single thread would.
+      const auto on_top = [&](const CandidateCause* a, const CandidateCause* b) {
         CandidateCause c = refit(b->cause, a->model, current.model, current.val_simulation);
         instrumental_fit(c);
+        return c;
+      };
+      auto reversed = std::async(std::launch::async, on_top, structural[1], structural[0]);
+      std::array<CandidateCause, 2> tried{on_top(structural[0], structural[1]), reversed.get()};
+      const CandidateCause* first = nullptr;
+      CandidateCause both;
+      for (std::size_t k = 0; k < tried.size(); ++k) {
+        CandidateCause& c = tried[k];
         if (structural_accepted(c, current, options) && (first == nullptr || c.fit_val > both.fit_val)) {
-          first = a;
+          first = structural[k];
           both = std::move(c);
         }
       }

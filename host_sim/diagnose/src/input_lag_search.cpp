@@ -2,12 +2,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <future>
 #include <limits>
 #include <utility>
 #include <vector>
 
 #include "diagnosis_candidates.hpp"
+#include "two_threads.hpp"
 
 namespace lashid::sim::detail {
 
@@ -123,27 +125,61 @@ void repair_path(Fit fit, LagPath& path, const FlatRecording& data, std::pair<st
   upper.get();
 }
 
+// fit(lambdas[i], start, data) for every i, on two threads: for fits that do not depend on each other.
+template <class Fit>
+std::vector<JointModel> fit_independent(Fit fit, const JointModel* start, const std::vector<double>& lambdas,
+                                        const FlatRecording& data) {
+  std::vector<JointModel> fits(lambdas.size());
+  on_two_threads(lambdas.size(), [&](std::size_t i) { fits[i] = fit(lambdas[i], start, data); });
+  return fits;
+}
+
 template <class Fit>
 LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<double>& lambdas, const FlatRecording& data,
                      std::pair<std::size_t, std::size_t> val, bool two_starts) {
   LagPath path;
-  const JointModel* previous = &current;
-  for (double lambda : lambdas) {
-    // The second start on a second thread (the result does not depend on it).
-    std::future<JointModel> second;
-    if (two_starts && previous != &current && current.structure.op == OperatorKind::kBacklash) {
-      second = std::async(std::launch::async, [&, lambda] { return fit(lambda, &current, data); });
-    }
-    JointModel m = fit(lambda, previous, data);
-    if (second.valid()) {
-      JointModel again = second.get();
-      if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
-    }
-    if (!m.ok) continue;
+  const auto add = [&](JointModel m, double lambda) {
     path.lambda.push_back(lambda);
     path.fit_val.push_back(simulation_fit(m, data, val.first, val.second));
     path.fit_cross.push_back(-std::numeric_limits<double>::infinity());
     path.model.push_back(std::move(m));
+  };
+  if (current.structure.op == OperatorKind::kSwitch) {
+    // A switch has no regimes to carry along the path: its fit does not depend on the start (fit_joint_model starts
+    // only a backlash from `initial`), so the path's points are independent.
+    std::vector<JointModel> fits = fit_independent(fit, &current, lambdas, data);
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      if (fits[i].ok) add(std::move(fits[i]), lambdas[i]);
+    }
+    return path;
+  }
+  // The second start's fits (from `current`, at every lambda but the first) do not depend on the path: a second
+  // thread runs them ahead while this one follows the path, each taken as the path reaches its lambda.
+  std::vector<std::promise<JointModel>> from_current(two_starts ? lambdas.size() : 0);
+  std::future<void> ahead;
+  if (two_starts && lambdas.size() > 1) {
+    ahead = std::async(std::launch::async, [&] {
+      for (std::size_t i = 1; i < lambdas.size(); ++i) {
+        try {
+          from_current[i].set_value(fit(lambdas[i], &current, data));
+        } catch (...) {  // passed on to the path, which would otherwise wait for it for good
+          from_current[i].set_exception(std::current_exception());
+        }
+      }
+    });
+  }
+  const JointModel* previous = &current;
+  for (std::size_t i = 0; i < lambdas.size(); ++i) {
+    const double lambda = lambdas[i];
+    JointModel m = fit(lambda, previous, data);
+    // From the second lambda on: the fit from the previous lambda's regimes, or the one from `current`'s if its
+    // RSS is lower (the first is itself from `current`: previous is `current` there).
+    if (two_starts && i > 0) {
+      JointModel again = from_current[i].get_future().get();
+      if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
+    }
+    if (!m.ok) continue;
+    add(std::move(m), lambda);
     previous = &path.model.back();
   }
   if (two_starts && current.structure.op == OperatorKind::kBacklash) repair_path(fit, path, data, val);
@@ -172,22 +208,22 @@ std::size_t best_cross(const LagPath& p) {
 
 // The points of the path whose RSS is at most max_rss, cross-validated within val (each fold from the point's own
 // model's regimes): the pooled simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of
-// energies)); the others keep -infinity. The two folds run on two threads; the result does not depend on it.
+// energies)); the others keep -infinity. The fold fits (point, fold) run on two threads.
 template <class Fit>
 void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data, double max_rss) {
   const std::size_t count = path.model.size();
-  const auto fold = [&](std::size_t k, std::vector<HeldOutError>& out) {
-    for (std::size_t i = 0; i < count; ++i) {
-      if (path.model[i].rss <= max_rss) out[i] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data);
-    }
-  };
-  std::vector<HeldOutError> second(count);
-  auto other = std::async(std::launch::async, [&] { fold(1, second); });
-  std::vector<HeldOutError> first(count);
-  fold(0, first);
-  other.get();
+  std::vector<std::size_t> points;
   for (std::size_t i = 0; i < count; ++i) {
-    const double error = first[i].error + second[i].error, total = first[i].total + second[i].total;
+    if (path.model[i].rss <= max_rss) points.push_back(i);
+  }
+  std::vector<std::array<HeldOutError, 2>> held_out(count);
+  on_two_threads(2 * points.size(), [&](std::size_t task) {
+    const std::size_t i = points[task / 2], k = task % 2;
+    held_out[i][k] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data);
+  });
+  for (std::size_t i = 0; i < count; ++i) {
+    const double error = held_out[i][0].error + held_out[i][1].error;
+    const double total = held_out[i][0].total + held_out[i][1].total;
     path.fit_cross[i] = std::isfinite(error) && total > 0 ? 100.0 * (1.0 - std::sqrt(error / total))
                                                           : -std::numeric_limits<double>::infinity();
   }
@@ -228,15 +264,9 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const double max_lag = options.max_input_lag;
   std::vector<double> grid;
   for (double lambda = 0.05; lambda <= max_lag + 1e-9; lambda += 0.05) grid.push_back(lambda);
-  // The grid's fits are independent (each from `current`): the upper half on a second thread. The best is then
-  // chosen in grid order, as a single thread would.
-  std::vector<JointModel> grid_fits(grid.size());
-  const std::size_t half = grid.size() / 2;
-  auto upper = std::async(std::launch::async, [&] {
-    for (std::size_t i = half; i < grid.size(); ++i) grid_fits[i] = coarse(grid[i], &current, data);
-  });
-  for (std::size_t i = 0; i < half; ++i) grid_fits[i] = coarse(grid[i], &current, data);
-  upper.get();
+  // The grid's fits are independent (each from `current`): on two threads. The best is then chosen in grid order,
+  // as a single thread would.
+  std::vector<JointModel> grid_fits = fit_independent(coarse, &current, grid, data);
   JointModel best_coarse;
   double grid_lambda = 0;
   for (std::size_t i = 0; i < grid.size(); ++i) {
