@@ -69,7 +69,8 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
                         c.identification.whiteness.statistic <
                             options.whiteness_ratio * current.identification.whiteness.statistic ||
                         std::max(val_gain, like_gain) >= options.explaining_val_gain;
-  return explains && val_gain > options.min_val_gain && beats_instrumental;
+  const double checked_gain = options.instrumental_val_check ? std::max(val_gain, like_gain) : val_gain;
+  return explains && checked_gain > options.min_val_gain && beats_instrumental;
 }
 
 // `model` becomes the current model, with its val simulation and identification residuals.

@@ -132,6 +132,9 @@ struct DiagnosisOptions {
   /// ("explains", above) by the better of its two val fits against the better of the current model's two. Under
   /// sensor noise least squares biases a real drift's val fit as much as the nominal model's.
   bool instrumental_ranking = true;
+  /// The val check like with like too: the larger of the least-squares and the like-with-like gains must exceed
+  /// min_val_gain (a true dead time under sensor noise: its least-squares val fit is below the nominal model's).
+  bool instrumental_val_check = true;
   /// The dead time's delay is the one whose instrumental-variable fit simulates the identification phases best
   /// (least squares' RSS, biased by a coloured disturbance, picks one sample too many); the RSS where every IV fit
   /// fails.
