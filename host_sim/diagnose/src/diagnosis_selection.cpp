@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <future>
 #include <iterator>
 #include <limits>
 #include <optional>
@@ -325,14 +324,14 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     } else if (structural.size() >= 2) {
       // Both orders: a parameter searched without the other cause can be far off (an input lag's lambda, chosen
       // by val, without the drift that dominates val), and the second is searched on top of the first. The two
-      // orders are independent: the second on a second thread, judged after the first as a single thread would.
+      // orders are independent: one on each thread, judged in order as a single thread would.
       const auto on_top = [&](const CandidateCause* a, const CandidateCause* b) {
         CandidateCause c = refit(b->cause, a->model, current.model, current.val_simulation);
         instrumental_fit(c);
         return c;
       };
-      auto reversed = std::async(std::launch::async, on_top, structural[1], structural[0]);
-      std::array<CandidateCause, 2> tried{on_top(structural[0], structural[1]), reversed.get()};
+      std::array<CandidateCause, 2> tried;
+      on_two_threads(tried.size(), [&](std::size_t k) { tried[k] = on_top(structural[k], structural[1 - k]); });
       const CandidateCause* first = nullptr;
       CandidateCause both;
       for (std::size_t k = 0; k < tried.size(); ++k) {

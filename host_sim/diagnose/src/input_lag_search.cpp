@@ -117,12 +117,14 @@ void repair_path(Fit fit, LagPath& path, const FlatRecording& data, std::pair<st
     path.model[i] = std::move(again);
     path.fit_val[i] = simulation_fit(path.model[i], data, val.first, val.second);
   };
-  // The two directions are independent: the upper one on a second thread.
-  auto upper = std::async(std::launch::async, [&] {
-    for (std::size_t i = best + 1; i < count; ++i) repair(i, i - 1);
+  // The two directions are independent: one on each thread.
+  on_two_threads(2, [&](std::size_t upward) {
+    if (upward != 0) {
+      for (std::size_t i = best + 1; i < count; ++i) repair(i, i - 1);
+    } else {
+      for (std::size_t i = best; i-- > 0;) repair(i, i + 1);
+    }
   });
-  for (std::size_t i = best; i-- > 0;) repair(i, i + 1);
-  upper.get();
 }
 
 // fit(lambdas[i], start, data) for every i, on two threads: for fits that do not depend on each other.
@@ -324,11 +326,10 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
         const JointModel fold = fine(lambda, &chosen, folds.train[k]);
         return fold.ok ? fine(lambda, &fold, data) : JointModel{};
       };
-      auto second = std::async(std::launch::async, restart, 1);
-      JointModel first = restart(0);
-      JointModel other = second.get();
-      for (JointModel* m : {&first, &other}) {
-        if (m->ok && m->rss < chosen.rss) chosen = std::move(*m);
+      std::array<JointModel, 2> restarted;
+      on_two_threads(restarted.size(), [&](std::size_t k) { restarted[k] = restart(k); });
+      for (JointModel& m : restarted) {
+        if (m.ok && m.rss < chosen.rss) chosen = std::move(m);
       }
     }
     return chosen;

@@ -42,4 +42,15 @@ void ByteFaults::pass(const std::uint8_t* data, std::size_t size, std::vector<st
   }
 }
 
+FaultyLine::FaultyLine(double rate, std::uint64_t seed, std::uint64_t stream) {
+  if (rate > 0) faults_.emplace(rate, seed, stream);
+}
+
+std::vector<std::uint8_t> FaultyLine::pass(const std::uint8_t* data, std::size_t size) {
+  if (!faults_) return {data, data + size};
+  std::vector<std::uint8_t> out;
+  faults_->pass(data, size, out);
+  return out;
+}
+
 }  // namespace lashid::sim

@@ -53,24 +53,6 @@ std::vector<std::uint8_t> command(link::Command c, std::optional<std::uint8_t> a
   return frame_bytes(link::MessageType::kCommand, w);
 }
 
-// One direction of one UART: the bytes as they cross, through ByteFaults when a fault rate is set.
-class Line {
- public:
-  Line(const HilOptions& options, std::uint64_t stream) {
-    if (options.fault_rate > 0) faults_.emplace(options.fault_rate, options.fault_seed, stream);
-  }
-  std::vector<std::uint8_t> pass(const std::uint8_t* data, std::size_t size) {
-    if (!faults_) return {data, data + size};
-    std::vector<std::uint8_t> out;
-    faults_->pass(data, size, out);
-    return out;
-  }
-  FaultCounts counts() const { return faults_ ? faults_->counts() : FaultCounts{}; }
-
- private:
-  std::optional<ByteFaults> faults_;
-};
-
 class Session {
  public:
   Session(const HilOptions& options, AnyPlant plant, RunRecorder* recorder, const fw::RunDesign& design, pid_t& qemu,
@@ -372,7 +354,7 @@ class Session {
 
  public:
   ~Session() {
-    for (const Line* line : {&to_link_, &from_link_, &to_plant_, &from_plant_}) result_.faults += line->counts();
+    for (const FaultyLine* line : {&to_link_, &from_link_, &to_plant_, &from_plant_}) result_.faults += line->counts();
   }
 
  private:
@@ -386,7 +368,10 @@ class Session {
   std::uint8_t start_flags_;
   link::FrameDecoder link_decoder_;
   // Each direction of each UART has its own draws: the faults of one do not depend on the traffic of another.
-  Line to_link_{options_, 0}, from_link_{options_, 1}, to_plant_{options_, 2}, from_plant_{options_, 3};
+  FaultyLine to_link_{options_.fault_rate, options_.fault_seed, 0};
+  FaultyLine from_link_{options_.fault_rate, options_.fault_seed, 1};
+  FaultyLine to_plant_{options_.fault_rate, options_.fault_seed, 2};
+  FaultyLine from_plant_{options_.fault_rate, options_.fault_seed, 3};
   Step step_ = Step::kQuery;
   int sends_ = 1;  // times the current step's request was sent
   bool stage_seen_ = false;

@@ -8,7 +8,7 @@
 //   -> done [-> holding the reports: sent again on kReport, until kFinish or kReportHoldSeconds].
 // Each change to a measuring stage is announced with a kStatus frame (progress for the host); the end is the
 // reports, then kDone with the run's status. Commands over the link
-// (hal/link_protocol.hpp): design, start, stop, query, report, finish. A sensor value that is NaN, infinite or
+// (hal/link_protocol.hpp, framed_link.hpp): design, start, stop, query, report, finish. A sensor value that is NaN, infinite or
 // outside the design's sensor range is counted (CostRecord::bad_sensor_values) and never estimated from. On a board
 // whose link writes do not wait (hal::BuffersLinkWrites), a start with kStartStreamSamples also sends every sample
 // as measured (kSamples, SampleBlock), for the host's recording of a plant it does not play.
@@ -23,6 +23,7 @@
 
 #include "lashid/estimator/excitation.hpp"
 #include "lashid/estimator/identifier.hpp"
+#include "lashid/firmware/framed_link.hpp"
 #include "lashid/firmware/messages.hpp"
 #include "lashid/firmware/run_design.hpp"
 #include "lashid/firmware/run_report.hpp"
@@ -41,19 +42,19 @@ class IdentificationSequencer {
   /// With kStartHoldReports: how long the reports are held after a run for a host that lost one (each kReport
   /// starts the wait again). Only on boards that know their cycle rate (hal::KnowsCycleRate); others do not hold.
   static constexpr std::uint32_t kReportHoldSeconds = 2;
-  /// Bytes or link errors handled per poll of the link at most (two whole frames' worth; the rest waits for the
-  /// next poll): a board whose link_read kept failing (a sticky overrun flag) would otherwise hold the firmware in
-  /// the poll forever, with no sample taken and nothing reported.
-  static constexpr int kPollBudget = 2 * static_cast<int>(hal::link::kMaxFrame);
+  /// Bytes or link errors handled per poll of the link at most (framed_link.hpp).
+  static constexpr int kPollBudget = FramedLink<B>::kPollBudget;
   using Identifier = est::SchemeIdentifier<float, N, M>;
   using Estimate = typename Identifier::Estimate;
   using Design = est::ExperimentDesign<float, M>;
 
   /// Waits in Stage::kIdle for a design (kDesign) and a start command on the link.
-  explicit IdentificationSequencer(B& board) : board_(board) {}
+  explicit IdentificationSequencer(B& board) : board_(board), link_(board) {}
   /// Runs `design` without waiting for the link (the host tests, a fixed-design image). A design that breaks a
   /// rule ends the run at once with RunStatus::kDesignRejected, as if it had come over the link.
-  IdentificationSequencer(B& board, const RunDesign& design) : board_(board), started_(true) { accept(design); }
+  IdentificationSequencer(B& board, const RunDesign& design) : board_(board), link_(board), started_(true) {
+    accept(design);
+  }
 
   /// Runs to the end (or until stopped). Returns the overall status, also sent in the kDone frame.
   RunStatus run() {
@@ -277,21 +278,20 @@ class IdentificationSequencer {
 
   /// Both records always go out; a scheme that never ran reports status kNotExcited. Sent again on kReport.
   void send_reports() {
-    hal::link::PayloadWriter w;
-    dis_.encode(w);
-    send(hal::link::MessageType::kEstimate, w);
-    hal::link::PayloadWriter wa;
-    ais_.encode(wa);
-    send(hal::link::MessageType::kEstimate, wa);
-    hal::link::PayloadWriter wc;
-    cross_.encode(wc);
-    send(hal::link::MessageType::kCrossCheck, wc);
-    hal::link::PayloadWriter wk;
-    cost_.encode(wk);
-    send(hal::link::MessageType::kCost, wk);
+    send_record(hal::link::MessageType::kEstimate, dis_);
+    send_record(hal::link::MessageType::kEstimate, ais_);
+    send_record(hal::link::MessageType::kCrossCheck, cross_);
+    send_record(hal::link::MessageType::kCost, cost_);
     hal::link::PayloadWriter wd;
     wd.u8(static_cast<std::uint8_t>(result_));
     send(hal::link::MessageType::kDone, wd);
+  }
+
+  template <class Record>
+  void send_record(hal::link::MessageType type, const Record& record) {
+    hal::link::PayloadWriter w;
+    record.encode(w);
+    send(type, w);
   }
 
   /// Whether the run goes on holding its reports (kStartHoldReports, until kFinish or the hold time).
@@ -305,17 +305,7 @@ class IdentificationSequencer {
     }
   }
 
-  /// A payload that overflowed the writer is truncated: it is not sent (the host would decode garbage or reject
-  /// it), and it is counted. The static_asserts of messages.hpp make this unreachable for the image's records.
-  void send(hal::link::MessageType type, const hal::link::PayloadWriter& w) {
-    if (!w.ok()) {
-      ++cost_.send_failures;
-      return;
-    }
-    std::uint8_t frame[hal::link::kMaxFrame];
-    const std::size_t size = hal::link::encode_frame(type, seq_++, w.data(), w.size(), frame);
-    if (size == 0 || board_.link_write(frame, size) != hal::Status::kOk) ++cost_.link_errors;
-  }
+  void send(hal::link::MessageType type, const hal::link::PayloadWriter& w) { link_.send(type, w, cost_); }
 
   /// kStatus: the stage, samples exchanged so far, link errors. Sent on every stage change and on kQuery.
   void send_status() {
@@ -346,26 +336,10 @@ class IdentificationSequencer {
   }
 
   void poll_link() {
-    std::uint8_t byte = 0;
-    for (int budget = kPollBudget; budget > 0; --budget) {
-      const hal::Status s = board_.link_read(byte);
-      if (s == hal::Status::kWouldBlock) return;
-      if (s != hal::Status::kOk) {
-        // Bytes lost (an overrun): the frame under way is dropped, or it would eat the next (as the plant port).
-        ++cost_.link_errors;
-        static_cast<void>(decoder_.abandon_partial());
-        continue;
-      }
-      const auto r = decoder_.push(byte);
-      if (r == hal::link::FrameDecoder::Result::kDropped) ++cost_.link_errors;
-      if (r != hal::link::FrameDecoder::Result::kFrame) continue;
-      const auto& f = decoder_.frame();
-      if (f.type == hal::link::MessageType::kDesign) {
-        on_design(f);
-        continue;
-      }
+    link_.poll(cost_, [this](const hal::link::Frame& f) {
+      if (f.type == hal::link::MessageType::kDesign) on_design(f);
       if (f.type == hal::link::MessageType::kCommand) on_command(f);
-    }
+    });
   }
 
   void on_command(const hal::link::Frame& f) {
@@ -400,6 +374,7 @@ class IdentificationSequencer {
   }
 
   B& board_;
+  FramedLink<B> link_;
   bool started_ = false;
   bool design_ok_ = false;
   bool hold_reports_ = false;
@@ -412,7 +387,6 @@ class IdentificationSequencer {
   RunStatus estimates_result_ = RunStatus::kOk;
   std::uint32_t t_ = 0;
   int phase_ = 0;  // t mod T in the pulse experiments
-  std::uint8_t seq_ = 0;
   Identifier identifier_{};
   est::ExcitationGenerator<float, N, M> generator_{Design{}, 1};
   ValidationExcitation validation_{};
@@ -423,7 +397,6 @@ class IdentificationSequencer {
   est::StepMean<float> low_{};
   CrossCheckRecord cross_{};
   CostRecord cost_{};
-  hal::link::FrameDecoder decoder_{};
 };
 
 }  // namespace lashid::fw

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -41,6 +42,18 @@ class ByteFaults {
   double rate_;
   std::mt19937_64 random_;
   FaultCounts counts_;
+};
+
+/// One direction of one UART: the bytes as they cross, through ByteFaults when the rate is above 0, untouched
+/// (and not counted) otherwise.
+class FaultyLine {
+ public:
+  FaultyLine(double rate, std::uint64_t seed, std::uint64_t stream);
+  std::vector<std::uint8_t> pass(const std::uint8_t* data, std::size_t size);
+  FaultCounts counts() const { return faults_ ? faults_->counts() : FaultCounts{}; }
+
+ private:
+  std::optional<ByteFaults> faults_;
 };
 
 }  // namespace lashid::sim
