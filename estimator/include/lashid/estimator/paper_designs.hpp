@@ -1,6 +1,7 @@
 // The experiment designs of the paper's two examples: model order, working interval, abscissas and experiment
-// lengths. The one source of these numbers for the firmware's configurations (firmware/paper_configs.hpp) and the
-// simulator's scenarios dis_paper and ais_paper (host_sim/sim), which add the plants (borders, A, B, noise).
+// lengths. The one source of these numbers for the firmware's configurations
+// (firmware/include/lashid/firmware/paper_run_designs.hpp) and the simulator's scenarios dis_paper and ais_paper
+// (host_sim/sim), which add the plants (borders, A, B, noise).
 // Header-only constexpr data, heap-free.
 #pragma once
 
