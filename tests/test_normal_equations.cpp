@@ -47,6 +47,35 @@ Case make_case(int P, unsigned seed) {
   return c;
 }
 
+// The dense regression (3.19): row t has -y_lags(t - i) in a_i's column, phi(t - i)'s hat weights in the columns
+// of b_i c_p, 1 for kappa0 and t / (N - 1) for kappa1.
+Eigen::MatrixXd dense_regression(const Case& c, const detail::RegressionShape& g, bool drift,
+                                 const std::vector<double>& y_lags) {
+  const int n = g.n, P = g.P;
+  const std::size_t N = c.data.size();
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(g.rows.size()), g.cols);
+  for (std::size_t r = 0; r < g.rows.size(); ++r) {
+    const std::size_t t = g.rows[r];
+    const auto row = static_cast<Eigen::Index>(r);
+    for (int i = 1; i <= n; ++i) {
+      const std::size_t s = t - static_cast<std::size_t>(i);
+      X(row, i - 1) = -y_lags[s];
+      for (std::size_t k = 0; k < 2; ++k) {
+        if (c.phi[s].param[k] >= 0) X(row, n + (i - 1) * P + c.phi[s].param[k]) += c.phi[s].weight[k];
+      }
+    }
+    X(row, n + n * P) = 1.0;
+    if (drift) X(row, n + n * P + 1) = static_cast<double>(t) / static_cast<double>(N - 1);
+  }
+  return X;
+}
+
+Eigen::VectorXd targets(const Case& c, const detail::RegressionShape& g) {
+  Eigen::VectorXd y(static_cast<Eigen::Index>(g.rows.size()));
+  for (std::size_t r = 0; r < g.rows.size(); ++r) y(static_cast<Eigen::Index>(r)) = c.data.y[g.rows[r]];
+  return y;
+}
+
 TEST(NormalEquations, EqualTheDenseRegressionsProducts) {
   const int P = 7;
   for (int n = 1; n <= 4; ++n) {
@@ -55,25 +84,8 @@ TEST(NormalEquations, EqualTheDenseRegressionsProducts) {
       ModelStructure structure;
       structure.drift = drift;
       const detail::RegressionShape g = detail::regression_shape(n, P, c.data, structure);
-      // The dense regression (3.19): row t has -y(t - i) in a_i's column, phi(t - i)'s hat weights in the
-      // columns of b_i c_p, 1 for kappa0 and t / (N - 1) for kappa1.
-      const std::size_t N = c.data.size();
-      Eigen::MatrixXd X = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(g.rows.size()), g.cols);
-      Eigen::VectorXd y(static_cast<Eigen::Index>(g.rows.size()));
-      for (std::size_t r = 0; r < g.rows.size(); ++r) {
-        const std::size_t t = g.rows[r];
-        const auto row = static_cast<Eigen::Index>(r);
-        for (int i = 1; i <= n; ++i) {
-          const std::size_t s = t - static_cast<std::size_t>(i);
-          X(row, i - 1) = -c.data.y[s];
-          for (std::size_t k = 0; k < 2; ++k) {
-            if (c.phi[s].param[k] >= 0) X(row, n + (i - 1) * P + c.phi[s].param[k]) += c.phi[s].weight[k];
-          }
-        }
-        X(row, n + n * P) = 1.0;
-        if (drift) X(row, n + n * P + 1) = static_cast<double>(t) / static_cast<double>(N - 1);
-        y(row) = c.data.y[t];
-      }
+      const Eigen::MatrixXd X = dense_regression(c, g, drift, c.data.y);
+      const Eigen::VectorXd y = targets(c, g);
       const std::vector<detail::LagGroup> groups = detail::lag_groups(c.data, c.phi);
       const detail::NormalEquations ne = detail::normal_equations(g, c.data, structure, c.phi, groups, nullptr);
       const Eigen::MatrixXd xx = X.transpose() * X;
@@ -86,6 +98,35 @@ TEST(NormalEquations, EqualTheDenseRegressionsProducts) {
       // Instrumental variables with y itself as the instruments: the same equations.
       const detail::NormalEquations iv = detail::normal_equations(g, c.data, structure, c.phi, groups, &c.data.y);
       EXPECT_LT((iv.zx - xx).cwiseAbs().maxCoeff(), 1e-12 * xx.cwiseAbs().maxCoeff()) << "n " << n;
+    }
+  }
+}
+
+// Instruments other than y (as the IV fit's simulated outputs): Z'X is not symmetric, Z'y takes Z's rows, and the
+// columns' energies stay those of X.
+TEST(NormalEquations, InstrumentalVariablesEqualTheDenseProducts) {
+  const int P = 7;
+  for (int n = 1; n <= 4; ++n) {
+    for (bool drift : {false, true}) {
+      const Case c = make_case(P, static_cast<unsigned>(100 + 10 * n + (drift ? 1 : 0)));
+      std::mt19937 rng(static_cast<unsigned>(n));
+      std::normal_distribution<double> noise(0.0, 0.3);
+      std::vector<double> instruments = c.data.y;
+      for (double& value : instruments) value = 0.5 * value + noise(rng);
+      ModelStructure structure;
+      structure.drift = drift;
+      const detail::RegressionShape g = detail::regression_shape(n, P, c.data, structure);
+      const Eigen::MatrixXd X = dense_regression(c, g, drift, c.data.y);
+      const Eigen::MatrixXd Z = dense_regression(c, g, drift, instruments);
+      const Eigen::VectorXd y = targets(c, g);
+      const std::vector<detail::LagGroup> groups = detail::lag_groups(c.data, c.phi);
+      const detail::NormalEquations iv = detail::normal_equations(g, c.data, structure, c.phi, groups, &instruments);
+      const Eigen::MatrixXd zx = Z.transpose() * X;
+      const double scale = zx.cwiseAbs().maxCoeff();
+      ASSERT_GT((zx - zx.transpose()).cwiseAbs().maxCoeff(), 1e-3 * scale);  // the instruments differ from y
+      EXPECT_LT((iv.zx - zx).cwiseAbs().maxCoeff(), 1e-12 * scale) << "n " << n << " drift " << drift;
+      EXPECT_LT((iv.zy - Z.transpose() * y).cwiseAbs().maxCoeff(), 1e-12 * scale) << "n " << n << " drift " << drift;
+      EXPECT_LT((iv.energy - X.colwise().squaredNorm().transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
     }
   }
 }

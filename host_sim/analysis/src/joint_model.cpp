@@ -137,15 +137,15 @@ std::optional<Eigen::VectorXd> warm_theta(const JointModel& warm, const Layout& 
   return theta;
 }
 
-// One fit for a fixed basis (regime sequence). `instruments_y`, when given, replaces y in the instruments; `warm`,
-// when given, may start the rank-1 fit (warm_theta).
+// One fit for a fixed basis (regime sequence). `g` is regression_shape(config.n, layout.parameters, data,
+// structure), the same for every fit of one fit_joint_model. `instruments_y`, when given, replaces y in the
+// instruments; `warm`, when given, may start the rank-1 fit (warm_theta).
 JointModel fit_with_basis(const ExperimentConfig& config, const Layout& layout, const FlatRecording& data,
-                          const ModelStructure& structure, const Basis& phi,
+                          const ModelStructure& structure, const RegressionShape& g, const Basis& phi,
                           const std::vector<double>* instruments_y, const JointModel* warm = nullptr,
                           const detail::ConsistencyRows* consistency = nullptr) {
   const int n = config.n;
   const int P = layout.parameters;
-  const RegressionShape g = regression_shape(n, P, data, structure);
   const int cols = g.cols;
   JointModel model;
   model.structure = structure;
@@ -270,6 +270,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
                            const JointModel* initial, bool only_from_initial) {
   const Layout layout = make_layout(config, std::max(structure.border_segments, 1));
   const std::vector<double> w = effective_input(data.v, structure);
+  const RegressionShape shape = regression_shape(config.n, layout.parameters, data, structure);
   ModelStructure ls_structure = structure;
   ls_structure.instrumental = false;
   ls_structure.output_error = false;
@@ -285,7 +286,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   // whether it does in the end.
   const bool consistency = structure.regime_consistency && structure.op == OperatorKind::kBacklash;
   const auto fit_regimes = [&](const Basis& phi, const JointModel* source, bool& consistent) {
-    JointModel m = fit_with_basis(config, layout, data, ls_structure, phi, nullptr, source);
+    JointModel m = fit_with_basis(config, layout, data, ls_structure, shape, phi, nullptr, source);
     consistent = false;
     if (!consistency) return m;
     std::vector<char> sticky(w.size(), 0);
@@ -299,7 +300,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
       }
       if (round == detail::kConsistencyRounds) break;
       for (std::size_t t = 0; t < used.size(); ++t) sticky[t] = sticky[t] || used[t];
-      JointModel next = fit_with_basis(config, layout, data, ls_structure, phi, nullptr, &m, &rows);
+      JointModel next = fit_with_basis(config, layout, data, ls_structure, shape, phi, nullptr, &m, &rows);
       if (!next.ok) break;
       m = std::move(next);
     }
@@ -349,7 +350,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   }
   if (structure.regime_search && structure.op == OperatorKind::kBacklash && model.ok) {
     const detail::FitForRegimes refit = [&](const Basis& regimes, const JointModel& warm) {
-      return fit_with_basis(config, layout, data, ls_structure, regimes, nullptr, &warm);
+      return fit_with_basis(config, layout, data, ls_structure, shape, regimes, nullptr, &warm);
     };
     detail::RegimeSearch searched = detail::search_regimes(config, layout, data, w, std::move(model), std::move(phi),
                                                            refit);
@@ -369,7 +370,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
       const auto lag = static_cast<std::size_t>(config.n);
       for (std::size_t t = 0; t < x.size(); ++t) x[t] = t >= lag ? u[t - lag] : u[0];
     }
-    JointModel iv = fit_with_basis(config, layout, data, structure, phi, &x);
+    JointModel iv = fit_with_basis(config, layout, data, structure, shape, phi, &x);
     if (!iv.ok) {
       if (pass == 0) return iv;
       break;

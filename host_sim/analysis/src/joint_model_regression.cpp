@@ -34,7 +34,9 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
   const int n = g.n;
   const Eigen::Index P = g.P;
   NormalEquations ne;
-  ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
+  // Only the upper triangle is summed into (the lower one is its copy, made at the end): only it is zeroed.
+  ne.zx.resize(g.cols, g.cols);
+  ne.zx.triangularView<Eigen::Upper>().setZero();
   ne.zy = Eigen::VectorXd::Zero(g.cols);
   auto& zx = ne.zx;
   const Eigen::Index level = n + n * P;  // the offset kappa0's column; kappa1's follows it
@@ -88,20 +90,53 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
     return std::pair{lo, std::max(lo, run.second >= un ? run.second - un : 0)};
   };
   // 1. The cores, on the blocks of lag 1; the level columns' sums (sum G(s) and sum G(s) tau(s)) apart, as
-  // (a, products) vectors.
+  // (a, products) vectors. add_products(s, 1, 1 + d) written out on the matrix's storage, with the lag groups'
+  // entries in locals: through zx(., .) every store into the matrix made the compiler load the groups again (a
+  // double may alias them), and this loop is most of the equations' time. Each entry gets the same sums in the same
+  // order (s ascending, a group's entries as in add_products), so the equations are the same bit for bit.
   Eigen::VectorXd sum_one = Eigen::VectorXd::Zero(P + 1), sum_tau = Eigen::VectorXd::Zero(P + 1);
+  double* const one = sum_one.data();
+  double* const one_tau = sum_tau.data();
+  double* const m = zx.data();
+  const Eigen::Index ld = zx.outerStride();
+  const auto column = [m, ld](Eigen::Index c) { return m + c * ld; };
   for (const auto& run : runs) {
     const auto [lo, hi] = core(run);
     for (std::size_t s = lo; s < hi; ++s) {
-      for (int d = 0; d < n; ++d) add_products(s, 1, 1 + d);
       const LagGroup& x = groups[s];
-      const double tau_s = static_cast<double>(s) * dtau;
-      sum_one(0) += x.minus_y;
-      sum_tau(0) += tau_s * x.minus_y;
-      for (std::size_t k = 0; k < 2; ++k) {
-        sum_one(1 + x.point[k]) += x.weight[k];
-        sum_tau(1 + x.point[k]) += tau_s * x.weight[k];
+      const double xm = x.minus_y, xw0 = x.weight[0], xw1 = x.weight[1];
+      const Eigen::Index xc0 = n + x.point[0], xc1 = n + x.point[1];  // lag 1's product columns (and rows)
+      double* const x0 = column(xc0);
+      double* const x1 = column(xc1);
+      // d = 0: the group with itself (the a column is column 0).
+      m[0] += xm * xm;
+      x0[0] += xm * xw0;
+      x1[0] += xm * xw1;
+      x0[xc0] += xw0 * xw0;
+      x1[xc1] += xw1 * xw1;
+      column(std::max(xc0, xc1))[std::min(xc0, xc1)] += xw0 * xw1;
+      for (int d = 1; d < n; ++d) {
+        const LagGroup& z = groups[s - static_cast<std::size_t>(d)];
+        const double zm = z.minus_y, zw0 = z.weight[0], zw1 = z.weight[1];
+        double* const z0 = column(n + d * P + z.point[0]);  // lag 1 + d's product columns
+        double* const z1 = column(n + d * P + z.point[1]);
+        column(d)[0] += xm * zm;
+        z0[0] += xm * zw0;
+        x0[d] += zm * xw0;
+        z1[0] += xm * zw1;
+        x1[d] += zm * xw1;
+        z0[xc0] += xw0 * zw0;
+        z1[xc0] += xw0 * zw1;
+        z0[xc1] += xw1 * zw0;
+        z1[xc1] += xw1 * zw1;
       }
+      const double tau_s = static_cast<double>(s) * dtau;
+      one[0] += xm;
+      one_tau[0] += tau_s * xm;
+      one[xc0 - n + 1] += xw0;
+      one_tau[xc0 - n + 1] += tau_s * xw0;
+      one[xc1 - n + 1] += xw1;
+      one_tau[xc1 - n + 1] += tau_s * xw1;
     }
   }
   // 2. Copied to the blocks (i, i + d): a_i a_j, a_i x products_j, a_j x products_i, products_i x products_j.
@@ -139,13 +174,18 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
     }
   }
   // 5. What depends on the row itself: the targets and the level columns.
+  double* const zy = ne.zy.data();  // as in 1., the groups' entries (and the sum of y^2) in locals
+  double yy = 0;
   for (std::size_t t : g.rows) {
     const double y = data.y[t], tau_t = static_cast<double>(t) * dtau;
-    ne.yy += y * y;
+    yy += y * y;
     for (int i = 1; i <= n; ++i) {
       const LagGroup& x = groups[t - static_cast<std::size_t>(i)];
-      ne.zy(a_col(i)) += x.minus_y * y;
-      for (std::size_t k = 0; k < 2; ++k) ne.zy(p_col(i, x.point[k])) += x.weight[k] * y;
+      const double xm = x.minus_y, xw0 = x.weight[0], xw1 = x.weight[1];
+      const Eigen::Index xc0 = p_col(i, x.point[0]), xc1 = p_col(i, x.point[1]);
+      zy[a_col(i)] += xm * y;
+      zy[xc0] += xw0 * y;
+      zy[xc1] += xw1 * y;
     }
     zx(level, level) += 1.0;
     ne.zy(level) += y;
@@ -155,6 +195,7 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
       ne.zy(level + 1) += tau_t * y;
     }
   }
+  ne.yy = yy;
   zx.triangularView<Eigen::StrictlyLower>() = zx.transpose();
   ne.energy = zx.diagonal();
   return ne;
@@ -180,21 +221,38 @@ std::vector<LagGroup> lag_groups(const FlatRecording& data, const Basis& phi) {
 std::vector<double> fitted_values(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
                                   const std::vector<LagGroup>& groups, const Eigen::VectorXd& theta) {
   const Eigen::Index level = g.n + g.n * static_cast<Eigen::Index>(g.P);
-  std::vector<double> fitted;
-  fitted.reserve(g.rows.size());
-  for (std::size_t t : g.rows) {
+  const double* const th = theta.data();
+  std::vector<double> fitted(g.rows.size());
+  for (std::size_t r = 0; r < g.rows.size(); ++r) {
+    const std::size_t t = g.rows[r];
     double sum = 0;
     for (int i = 1; i <= g.n; ++i) {
       const LagGroup& x = groups[t - static_cast<std::size_t>(i)];
-      const Eigen::Index products = g.n + static_cast<Eigen::Index>(i - 1) * g.P;
-      sum += x.minus_y * theta(i - 1);
-      for (std::size_t k = 0; k < 2; ++k) sum += x.weight[k] * theta(products + x.point[k]);
+      const double* const products = th + g.n + static_cast<Eigen::Index>(i - 1) * g.P;
+      sum += x.minus_y * th[i - 1];
+      sum += x.weight[0] * products[x.point[0]];
+      sum += x.weight[1] * products[x.point[1]];
     }
-    sum += theta(level);
-    if (structure.drift) sum += tau(t, data.size()) * theta(level + 1);
-    fitted.push_back(sum);
+    sum += th[level];
+    if (structure.drift) sum += tau(t, data.size()) * th[level + 1];
+    fitted[r] = sum;
   }
   return fitted;
+}
+
+void row_entries(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                 const Basis& phi, const std::vector<double>& y_lags, std::size_t t, std::vector<Entry>& entries) {
+  entries.clear();
+  for (int i = 1; i <= g.n; ++i) {
+    const std::size_t lag = t - static_cast<std::size_t>(i);
+    entries.push_back({i - 1, -y_lags[lag]});
+    const HatRow& h = phi[lag];
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (h.param[k] >= 0) entries.push_back({g.n + (i - 1) * g.P + h.param[k], h.weight[k]});
+    }
+  }
+  entries.push_back({g.n + g.n * g.P, 1.0});
+  if (structure.drift) entries.push_back({g.n + g.n * g.P + 1, tau(t, data.size())});
 }
 
 NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
@@ -205,21 +263,26 @@ NormalEquations normal_equations(const RegressionShape& g, const FlatRecording& 
   ne.zx = Eigen::MatrixXd::Zero(g.cols, g.cols);
   ne.zy = Eigen::VectorXd::Zero(g.cols);
   ne.energy = Eigen::VectorXd::Zero(g.cols);
-  // Instruments: the same row with the instruments' lags in the a_i columns (the first n entries of each lag group
-  // are the y lags, in the same order in both visits).
-  std::vector<std::vector<Entry>> z_rows;
-  z_rows.reserve(g.rows.size());
-  visit_rows(g, data, structure, phi, instruments_y,
-             [&](std::size_t, const std::vector<Entry>& z, double) { z_rows.push_back(z); });
-  std::size_t r = 0;
-  visit_rows(g, data, structure, phi, nullptr, [&](std::size_t, const std::vector<Entry>& x, double y) {
-    const std::vector<Entry>& z = z_rows[r++];
+  // Instruments: the same row with the instruments' lags in the a_i columns. Within a row every (instrument,
+  // regressor) pair is a different entry of Z'X, so each entry's sum runs over the rows in order whatever the order
+  // of the pairs; the two rows are built in reused buffers (a copy of every instrument row was a third of this).
+  std::vector<Entry> x, z;
+  double* const zy = ne.zy.data();
+  double* const energy = ne.energy.data();
+  double* const m = ne.zx.data();
+  const Eigen::Index ld = ne.zx.outerStride();
+  for (std::size_t t : g.rows) {
+    row_entries(g, data, structure, phi, *instruments_y, t, z);
+    row_entries(g, data, structure, phi, data.y, t, x);
+    const double y = data.y[t];
     for (const Entry& a : z) {
-      ne.zy(a.column) += a.value * y;
-      for (const Entry& b : x) ne.zx(a.column, b.column) += a.value * b.value;
+      const Eigen::Index row = a.column;
+      const double value = a.value;
+      zy[row] += value * y;
+      for (const Entry& b : x) m[row + b.column * ld] += value * b.value;
     }
-    for (const Entry& b : x) ne.energy(b.column) += b.value * b.value;
-  });
+    for (const Entry& b : x) energy[b.column] += b.value * b.value;
+  }
   return ne;
 }
 

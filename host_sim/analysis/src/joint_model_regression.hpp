@@ -15,8 +15,7 @@
 namespace lashid::sim::detail {
 
 // The stacked regression (3.19) over the identification rows t >= n: columns a_1..a_n, the n x P products
-// b_i c_p, the offset kappa0 and, with drift, kappa1. A row has at most 3n + 2 non-zero entries; `visit` hands
-// them to `f(t, entries, y(t))`, with the instruments' y lags instead of the outputs' when `instruments_y` is given.
+// b_i c_p, the offset kappa0 and, with drift, kappa1. A row has at most 3n + 2 non-zero entries.
 struct Entry {
   Eigen::Index column;
   double value;
@@ -27,28 +26,10 @@ struct RegressionShape {
   std::vector<std::size_t> rows;
 };
 
-template <class F>
-void visit_rows(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
-                const Basis& phi, const std::vector<double>* lagged, F f) {
-  const std::vector<double>& y_lags = lagged != nullptr ? *lagged : data.y;
-  std::vector<Entry> entries;
-  for (std::size_t t : g.rows) {
-    entries.clear();
-    for (int i = 1; i <= g.n; ++i) {
-      const std::size_t lag = t - static_cast<std::size_t>(i);
-      entries.push_back({i - 1, -y_lags[lag]});
-      const HatRow& h = phi[lag];
-      for (int k = 0; k < 2; ++k) {
-        if (h.param[static_cast<std::size_t>(k)] >= 0) {
-          entries.push_back({g.n + (i - 1) * g.P + h.param[static_cast<std::size_t>(k)], h.weight[static_cast<std::size_t>(k)]});
-        }
-      }
-    }
-    entries.push_back({g.n + g.n * g.P, 1.0});
-    if (structure.drift) entries.push_back({g.n + g.n * g.P + 1, tau(t, data.size())});
-    f(t, entries, data.y[t]);
-  }
-}
+/// Row t's non-zero entries, in column order, into `entries` (cleared first): the a_i columns take -y_lags(t - i)
+/// (the outputs' lags, or the instruments').
+void row_entries(const RegressionShape& g, const FlatRecording& data, const ModelStructure& structure,
+                 const Basis& phi, const std::vector<double>& y_lags, std::size_t t, std::vector<Entry>& entries);
 
 // The normal equations Z'X theta = Z'Y (Z = X for least squares) and the columns' energies on the data rows.
 struct NormalEquations {

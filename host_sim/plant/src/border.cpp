@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -125,6 +126,37 @@ struct Border::Data {
     return std::nullopt;
   }
 
+  // Whether C([a, b]) meets `level` on a table, a <= b inside [lo, hi]: the answer of table_search(level, a, b, .)
+  // in either direction, without its scan (a backlash asks this at every sample of a horizontal move, and the scans
+  // were a tenth of a diagnosis). The segments over [a, b] form a chain whose neighbours share their end values
+  // (both points of a jump join through its vertical segment), so the union of their ranges is [min, max] of the
+  // chain's values: C(a) and C(b) on their segments, and every point with a <= x <= b. The scan's tests on those
+  // values are comparisons only, so the answers agree exactly (tests/test_border.cpp checks it against the scan).
+  bool table_meets(double level, double a, double b) const {
+    const auto first = static_cast<std::size_t>(std::lower_bound(xs.begin(), xs.end(), a) - xs.begin());
+    const auto end = static_cast<std::size_t>(std::upper_bound(xs.begin(), xs.end(), b) - xs.begin());
+    double low = std::numeric_limits<double>::infinity();
+    double high = -low;
+    const auto take = [&](double u) {
+      low = std::min(low, u);
+      high = std::max(high, u);
+    };
+    if (first > 0 && xs[first] > a) take(segment_value(first - 1, a));  // a inside segment first - 1
+    if (end < xs.size() && xs[end - 1] < b) take(segment_value(end - 1, b));  // b inside segment end - 1
+    for (std::size_t i = first; i < end;) {
+      // A whole block of points i .. i + kSegmentBlock inside the range: its stored min and max.
+      if (i % kSegmentBlock == 0 && i + kSegmentBlock < end) {
+        take(segment_block_min[i / kSegmentBlock]);
+        take(segment_block_max[i / kSegmentBlock]);
+        i += kSegmentBlock;
+        continue;
+      }
+      take(ys[i]);
+      ++i;
+    }
+    return low <= level && level <= high;
+  }
+
   // Bisection on a bracket [p, q] of the callable border. `outside_at_q` chooses which end is outside
   // (last_reach: q; first_reach: p). Returns the midpoint of the final bracket, a point of the set up to the
   // tolerance; across a jump both ends converge to the jump abscissa. The midpoint (rather than either end)
@@ -215,6 +247,17 @@ struct Border::Data {
   std::optional<double> search(double level, double a, double b, bool from_right, bool refine_hit) const {
     if (table) return table_search(level, a, b, from_right);
     return function_search(level, a, b, from_right, refine_hit);
+  }
+
+  // Whether reach(level, a, b, from_right, false) has a value; on a table by table_meets.
+  bool meets(double level, double a, double b, bool from_right) const {
+    if (!(a <= b)) return false;
+    // The constant extensions: reach answers from them in either direction when the level is their value.
+    if ((b > hi && level == value(hi)) || (a < lo && level == value(lo))) return true;
+    const double ia = std::max(a, lo);
+    const double ib = std::min(b, hi);
+    if (!(ia <= ib)) return false;
+    return table ? table_meets(level, ia, ib) : function_search(level, ia, ib, from_right, false).has_value();
   }
 
   // C^{-1}(level) ∩ [a, b] including the constant extensions outside [lo, hi]: the max or the min element
@@ -330,7 +373,7 @@ std::optional<double> Border::first_reach(double level, double a, double b) cons
 }
 
 bool Border::reaches(double level, double a, double b, Scan scan) const {
-  return data_->reach(level, a, b, scan == Scan::from_right, false).has_value();
+  return data_->meets(level, a, b, scan == Scan::from_right);
 }
 
 }  // namespace lashid::sim
