@@ -41,9 +41,10 @@ class Border {
   // max / min of C^{-1}(level) ∩ [a, b]; nullopt if that set is empty (or a > b).
   std::optional<double> last_reach(double level, double a, double b) const;
   std::optional<double> first_reach(double level, double a, double b) const;
-  // Whether C^{-1}(level) ∩ [a, b] is non-empty. Same answer as last_reach(...).has_value(), but stops at the
-  // first bracketing cell without refining the crossing: this is the only question the backlash law asks.
-  // `scan` only affects speed: starting from the end where the motion starts stops soonest in the usual case.
+  // Whether C^{-1}(level) ∩ [a, b] is non-empty. Same answer as last_reach(...).has_value(), but without the
+  // crossing itself: this is the only question the backlash law asks. A table answers from the range of its values
+  // over [a, b]; a callable border stops at the first bracketing cell, and there `scan` affects speed only:
+  // starting from the end where the motion starts stops soonest in the usual case.
   enum class Scan { from_left, from_right };
   bool reaches(double level, double a, double b, Scan scan = Scan::from_right) const;
 
