@@ -45,24 +45,36 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
   const auto p_col = [&](int lag, Eigen::Index point) { return n + (lag - 1) * P + point; };
   // The products of lag i's group at s and lag j's at s - (j - i), i <= j, into the upper triangle (a group with
   // itself: each unordered pair once; the a columns come before every product column, lag i's products before
-  // lag j's).
+  // lag j's). On the matrix's storage, the groups' entries read into locals first: through zx(., .) every store
+  // made the compiler load the groups again (a double may alias them), and this is most of the equations' time.
+  double* const m = zx.data();
+  const Eigen::Index ld = zx.outerStride();
+  const auto column = [m, ld](Eigen::Index c) { return m + c * ld; };
   const auto add_products = [&](std::size_t s, int i, int j) {
     const LagGroup& x = groups[s];
     const LagGroup& z = groups[s - static_cast<std::size_t>(j - i)];
-    zx(a_col(i), a_col(j)) += x.minus_y * z.minus_y;
-    for (std::size_t k = 0; k < 2; ++k) {
-      zx(a_col(i), p_col(j, z.point[k])) += x.minus_y * z.weight[k];
-      if (i != j) zx(a_col(j), p_col(i, x.point[k])) += z.minus_y * x.weight[k];
-    }
+    const double xm = x.minus_y, xw0 = x.weight[0], xw1 = x.weight[1];
+    const double zm = z.minus_y, zw0 = z.weight[0], zw1 = z.weight[1];
+    const Eigen::Index ai = a_col(i), aj = a_col(j);
+    const Eigen::Index x0 = p_col(i, x.point[0]), x1 = p_col(i, x.point[1]);  // lag i's product rows
+    double* const z0 = column(p_col(j, z.point[0]));                          // lag j's product columns
+    double* const z1 = column(p_col(j, z.point[1]));
+    column(aj)[ai] += xm * zm;
     if (i == j) {
-      const Eigen::Index lo = std::min(x.point[0], x.point[1]), hi = std::max(x.point[0], x.point[1]);
-      zx(p_col(i, x.point[0]), p_col(i, x.point[0])) += x.weight[0] * x.weight[0];
-      zx(p_col(i, x.point[1]), p_col(i, x.point[1])) += x.weight[1] * x.weight[1];
-      zx(p_col(i, lo), p_col(i, hi)) += x.weight[0] * x.weight[1];
+      z0[ai] += xm * zw0;
+      z1[ai] += xm * zw1;
+      column(x0)[x0] += xw0 * xw0;
+      column(x1)[x1] += xw1 * xw1;
+      column(std::max(x0, x1))[std::min(x0, x1)] += xw0 * xw1;
     } else {
-      for (std::size_t k = 0; k < 2; ++k) {
-        for (std::size_t l = 0; l < 2; ++l) zx(p_col(i, x.point[k]), p_col(j, z.point[l])) += x.weight[k] * z.weight[l];
-      }
+      z0[ai] += xm * zw0;
+      column(x0)[aj] += zm * xw0;
+      z1[ai] += xm * zw1;
+      column(x1)[aj] += zm * xw1;
+      z0[x0] += xw0 * zw0;
+      z1[x0] += xw0 * zw1;
+      z0[x1] += xw1 * zw0;
+      z1[x1] += xw1 * zw1;
     }
   };
   // Lag i's group at s times the level columns of row s + i (1 and tau(s + i)).
@@ -90,53 +102,24 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
     return std::pair{lo, std::max(lo, run.second >= un ? run.second - un : 0)};
   };
   // 1. The cores, on the blocks of lag 1; the level columns' sums (sum G(s) and sum G(s) tau(s)) apart, as
-  // (a, products) vectors. add_products(s, 1, 1 + d) written out on the matrix's storage, with the lag groups'
-  // entries in locals: through zx(., .) every store into the matrix made the compiler load the groups again (a
-  // double may alias them), and this loop is most of the equations' time. Each entry gets the same sums in the same
-  // order (s ascending, a group's entries as in add_products), so the equations are the same bit for bit.
+  // (a, products) vectors.
   Eigen::VectorXd sum_one = Eigen::VectorXd::Zero(P + 1), sum_tau = Eigen::VectorXd::Zero(P + 1);
   double* const one = sum_one.data();
   double* const one_tau = sum_tau.data();
-  double* const m = zx.data();
-  const Eigen::Index ld = zx.outerStride();
-  const auto column = [m, ld](Eigen::Index c) { return m + c * ld; };
   for (const auto& run : runs) {
     const auto [lo, hi] = core(run);
     for (std::size_t s = lo; s < hi; ++s) {
+      for (int d = 0; d < n; ++d) add_products(s, 1, 1 + d);
       const LagGroup& x = groups[s];
-      const double xm = x.minus_y, xw0 = x.weight[0], xw1 = x.weight[1];
-      const Eigen::Index xc0 = n + x.point[0], xc1 = n + x.point[1];  // lag 1's product columns (and rows)
-      double* const x0 = column(xc0);
-      double* const x1 = column(xc1);
-      // d = 0: the group with itself (the a column is column 0).
-      m[0] += xm * xm;
-      x0[0] += xm * xw0;
-      x1[0] += xm * xw1;
-      x0[xc0] += xw0 * xw0;
-      x1[xc1] += xw1 * xw1;
-      column(std::max(xc0, xc1))[std::min(xc0, xc1)] += xw0 * xw1;
-      for (int d = 1; d < n; ++d) {
-        const LagGroup& z = groups[s - static_cast<std::size_t>(d)];
-        const double zm = z.minus_y, zw0 = z.weight[0], zw1 = z.weight[1];
-        double* const z0 = column(n + d * P + z.point[0]);  // lag 1 + d's product columns
-        double* const z1 = column(n + d * P + z.point[1]);
-        column(d)[0] += xm * zm;
-        z0[0] += xm * zw0;
-        x0[d] += zm * xw0;
-        z1[0] += xm * zw1;
-        x1[d] += zm * xw1;
-        z0[xc0] += xw0 * zw0;
-        z1[xc0] += xw0 * zw1;
-        z0[xc1] += xw1 * zw0;
-        z1[xc1] += xw1 * zw1;
-      }
+      const double xm = x.minus_y, xw0 = x.weight[0], xw1 = x.weight[1];  // locals, as in add_products
+      const Eigen::Index p0 = 1 + x.point[0], p1 = 1 + x.point[1];
       const double tau_s = static_cast<double>(s) * dtau;
       one[0] += xm;
       one_tau[0] += tau_s * xm;
-      one[xc0 - n + 1] += xw0;
-      one_tau[xc0 - n + 1] += tau_s * xw0;
-      one[xc1 - n + 1] += xw1;
-      one_tau[xc1 - n + 1] += tau_s * xw1;
+      one[p0] += xw0;
+      one_tau[p0] += tau_s * xw0;
+      one[p1] += xw1;
+      one_tau[p1] += tau_s * xw1;
     }
   }
   // 2. Copied to the blocks (i, i + d): a_i a_j, a_i x products_j, a_j x products_i, products_i x products_j.
@@ -174,7 +157,7 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
     }
   }
   // 5. What depends on the row itself: the targets and the level columns.
-  double* const zy = ne.zy.data();  // as in 1., the groups' entries (and the sum of y^2) in locals
+  double* const zy = ne.zy.data();  // as in add_products, the groups' entries (and the sum of y^2) in locals
   double yy = 0;
   for (std::size_t t : g.rows) {
     const double y = data.y[t], tau_t = static_cast<double>(t) * dtau;

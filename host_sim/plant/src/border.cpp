@@ -249,32 +249,36 @@ struct Border::Data {
     return function_search(level, a, b, from_right, refine_hit);
   }
 
-  // Whether reach(level, a, b, from_right, false) has a value; on a table by table_meets.
+  // Whether the border's constant extension beyond hi (below lo) lies inside [a, b] at the level.
+  bool right_extension(double level, double b) const { return b > hi && level == value(hi); }
+  bool left_extension(double level, double a) const { return a < lo && level == value(lo); }
+
+  // Whether reach(level, a, b, from_right, false) has a value; on a table by table_meets, without the scan.
   bool meets(double level, double a, double b, bool from_right) const {
+    if (!table) return reach(level, a, b, from_right, false).has_value();
     if (!(a <= b)) return false;
-    // The constant extensions: reach answers from them in either direction when the level is their value.
-    if ((b > hi && level == value(hi)) || (a < lo && level == value(lo))) return true;
+    // reach answers from an extension at the level in either direction.
+    if (right_extension(level, b) || left_extension(level, a)) return true;
     const double ia = std::max(a, lo);
     const double ib = std::min(b, hi);
-    if (!(ia <= ib)) return false;
-    return table ? table_meets(level, ia, ib) : function_search(level, ia, ib, from_right, false).has_value();
+    return ia <= ib && table_meets(level, ia, ib);
   }
 
   // C^{-1}(level) ∩ [a, b] including the constant extensions outside [lo, hi]: the max or the min element
   // (any element when !refine_hit).
   std::optional<double> reach(double level, double a, double b, bool from_right, bool refine_hit) const {
     if (!(a <= b)) return std::nullopt;
-    const bool right_extension = b > hi && level == value(hi);
-    const bool left_extension = a < lo && level == value(lo);
-    if (from_right && right_extension) return b;
-    if (!from_right && left_extension) return a;
+    const bool at_right = right_extension(level, b);
+    const bool at_left = left_extension(level, a);
+    if (from_right && at_right) return b;
+    if (!from_right && at_left) return a;
     const double ia = std::max(a, lo);
     const double ib = std::min(b, hi);
     if (ia <= ib) {
       if (auto hit = search(level, ia, ib, from_right, refine_hit)) return hit;
     }
-    if (from_right && left_extension) return std::min(b, lo);
-    if (!from_right && right_extension) return std::max(a, hi);
+    if (from_right && at_left) return std::min(b, lo);
+    if (!from_right && at_right) return std::max(a, hi);
     return std::nullopt;
   }
 };
