@@ -47,6 +47,16 @@ TEST(JointModel, TheTruePlantOnTheTablesPredictsToTheNoiseLevel) {
     const JointModel fit = fit_joint_model(c.config, data, s);
     ASSERT_TRUE(fit.ok) << fit.failure;
     const JointModel truth = true_plant_on(c, fit);
+    // The same plant put on the tables of the structure directly (true_plant_on_tables, diagnose-sweep
+    // --oracle-regimes): the tables the fit has, the same values.
+    const JointModel on_tables = true_plant_on_tables(c.config, s.border_segments, c.model.a, c.model.b,
+                                                      c.effect.borders->first, c.effect.borders->second);
+    EXPECT_EQ(on_tables.descending_v, truth.descending_v);
+    EXPECT_EQ(on_tables.ascending_v, truth.ascending_v);
+    EXPECT_EQ(on_tables.descending_u, truth.descending_u);
+    EXPECT_EQ(on_tables.ascending_u, truth.ascending_u);
+    EXPECT_EQ(on_tables.b, truth.b);
+    EXPECT_EQ(on_tables.kappa0, truth.kappa0);
     const double unit = noise_level(c, truth);
     EXPECT_NEAR(self_consistent_rss(truth, data) / unit, 1.0, 0.06) << "seed " << seed;
     // The fit cannot do better than the noise either (it has more freedom, a few hundred parameters at most).

@@ -172,7 +172,12 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
       const std::uint64_t seed = args.first_seed + static_cast<std::uint64_t>(k);
       const HiddenEffectCase c = generate_hidden_effect_case(hidden, seed, options);
       const auto start = std::chrono::steady_clock::now();
-      const Diagnosis d = diagnose(c.config, c.recording, fmt::format("{}#{}", row.hidden, seed), defaults);
+      DiagnosisOptions options_for_case = defaults;
+      if (args.oracle_regimes && c.effect.borders) {
+        options_for_case.regime_oracle =
+            DiagnosisOptions::KnownPlant{c.model.a, c.model.b, c.effect.borders->first, c.effect.borders->second};
+      }
+      const Diagnosis d = diagnose(c.config, c.recording, fmt::format("{}#{}", row.hidden, seed), options_for_case);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       diagnosis_seconds += seconds;
       slowest = std::max(slowest, seconds);
@@ -229,9 +234,11 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
     rows.push_back(std::move(row));
   }
   const int total = args.seeds * static_cast<int>(rows_hidden.size());
-  fmt::print("{} recordings per row, seeds {}..{}, {} borders; {:.2f} s per diagnosis (slowest {:.2f} s)\n\n",
+  fmt::print("{} recordings per row, seeds {}..{}, {} borders; {:.2f} s per diagnosis (slowest {:.2f} s){}\n\n",
              args.seeds, args.first_seed, args.first_seed + static_cast<std::uint64_t>(args.seeds) - 1, args.borders,
-             diagnosis_seconds / total, slowest);
+             diagnosis_seconds / total, slowest,
+             args.oracle_regimes ? "; --oracle-regimes: the lag search started from the true plant, not a diagnosis"
+                                 : "");
   int hits = 0;
   nlohmann::json table = nlohmann::json::array();
   for (const Row& r : rows) {
@@ -249,7 +256,8 @@ int run_diagnose_sweep(const DiagnoseSweepArgs& args) {
   fmt::print("\n{} of {} hits\n", hits, total);
   if (!args.json_out.empty()) {
     write_json_file(args.json_out, {{"seeds", args.seeds}, {"first_seed", args.first_seed},
-                                    {"borders", args.borders}, {"pairs", args.pairs}, {"rows", table},
+                                    {"borders", args.borders}, {"pairs", args.pairs},
+                                    {"oracle_regimes", args.oracle_regimes}, {"rows", table},
                                     {"seconds_per_diagnosis", diagnosis_seconds / total}, {"cases", cases}});
   }
   return 0;

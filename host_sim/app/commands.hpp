@@ -108,6 +108,7 @@ struct DiagnoseSweepArgs {
   std::string json_out;
   bool verbose = false;
   bool oracle = false;  // also put the generator's plant on each true-structure fit's tables (sweep_oracle.hpp)
+  bool oracle_regimes = false;  // the generator's plant as the only start of the lag search's fine backlash fits
 };
 int run_diagnose_sweep(const DiagnoseSweepArgs& args);
 

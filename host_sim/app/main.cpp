@@ -148,6 +148,9 @@ CLI::App* add_diagnose_sweep(CLI::App& app, DiagnoseSweepArgs& args) {
   cmd->add_flag("--oracle", args.oracle,
                 "Also put the generator's plant on each true-structure fit's border tables and compare one-step "
                 "errors and val fits (cases with input lag or dead time only; costs one more fit per case)");
+  cmd->add_flag("--oracle-regimes", args.oracle_regimes,
+                "Research, not a diagnosis: start every backlash fit of the input-lag search with the finer tables "
+                "from the generator's plant (its regimes), to measure what a regime finder could gain");
   cmd->callback([&args] {
     if (args.first_seed > std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(args.seeds - 1)) {
       throw CLI::ValidationError("--first-seed", fmt::format("{} + --seeds {} passes 2^64 - 1", args.first_seed,

@@ -13,6 +13,7 @@
 #include "lashid/plant/border.hpp"
 #include "lashid/plant/operators.hpp"
 #include "lashid/stats/metrics.hpp"
+#include "joint_model_layout.hpp"
 #include "model_operator.hpp"
 
 namespace lashid::sim {
@@ -150,6 +151,21 @@ JointModel with_true_plant(const JointModel& model, const std::vector<double>& a
   }
   truth.ok = true;
   return truth;
+}
+
+JointModel true_plant_on_tables(const ExperimentConfig& config, int border_segments, const std::vector<double>& a,
+                                const std::vector<double>& b, const Border& ascending, const Border& descending) {
+  const detail::Layout layout = detail::make_layout(config, std::max(border_segments, 1));
+  JointModel tables;
+  tables.n = config.n;
+  tables.v_min = config.v_min;
+  tables.v_max = config.v_max;
+  tables.structure.border_segments = std::max(border_segments, 1);
+  tables.descending_v = layout.descending.x;
+  tables.ascending_v = layout.ascending.x;
+  tables.descending_u.assign(tables.descending_v.size(), 0.0);
+  tables.ascending_u.assign(tables.ascending_v.size(), 0.0);
+  return with_true_plant(tables, a, b, ascending, descending);
 }
 
 }  // namespace lashid::sim

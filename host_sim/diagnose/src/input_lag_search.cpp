@@ -5,6 +5,7 @@
 #include <exception>
 #include <future>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -252,13 +253,19 @@ void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRec
 // the coarse model (on borders linear between the levels it is exact and pins lambda better).
 JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
                             const DiagnosisOptions& options) {
+  // Research only (DiagnosisOptions::regime_oracle): the known plant on the finer tables replaces every start there.
+  std::optional<JointModel> oracle_start;
+  if (options.regime_oracle && options.lag_border_segments > 1) {
+    const DiagnosisOptions::KnownPlant& p = *options.regime_oracle;
+    oracle_start = true_plant_on_tables(config, options.lag_border_segments, p.a, p.b, p.ascending, p.descending);
+  }
   const auto fit_with = [&](int segments) {
     return [&, segments](double lambda, const JointModel* start, const FlatRecording& on) {
       ModelStructure s = current.structure;
       s.border_smoothness = options.lag_border_smoothness;
       s.input_lag = lambda;
       s.border_segments = segments;
-      return fit_joint_model(config, on, s, start, true);
+      return fit_joint_model(config, on, s, segments > 1 && oracle_start ? &*oracle_start : start, true);
     };
   };
   const auto coarse = fit_with(1);

@@ -134,6 +134,12 @@ double self_consistent_rss(const JointModel& model, const FlatRecording& data);
 JointModel with_true_plant(const JointModel& model, const std::vector<double>& a, const std::vector<double>& b,
                            const Border& ascending, const Border& descending);
 
+/// A known plant on the border tables of `config` with `border_segments` segments per interval (the tables a fit with
+/// that structure has), as with_true_plant puts it: for research (diagnose-sweep --oracle-regimes), where the true
+/// plant is the start of a fit. Throws std::invalid_argument as with_true_plant, or when V_d or V_a lacks m points.
+JointModel true_plant_on_tables(const ExperimentConfig& config, int border_segments, const std::vector<double>& a,
+                                const std::vector<double>& b, const Border& ascending, const Border& descending);
+
 /// One-step prediction errors y(t) - y^(t|t-1) over [begin, end) (t >= n).
 std::vector<double> prediction_errors(const JointModel& model, const FlatRecording& data, std::size_t begin,
                                       std::size_t end);

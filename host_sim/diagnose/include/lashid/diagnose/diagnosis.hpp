@@ -179,6 +179,15 @@ struct DiagnosisOptions {
   double lag_fine_val_gain = 1.0;
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
   int max_delay = 5;
+  /// Research only, never set by `lashid diagnose` (diagnose-sweep --oracle-regimes; docs/diagnose-history.md,
+  /// session 28): a known plant whose regimes are the only start of every backlash fit of the input-lag search
+  /// with the finer tables (the lambda path, its cross-validation folds and restarts), to measure what a regime
+  /// finder could gain. Its A and B (b_1..b_n) and its borders, as the generator draws them.
+  struct KnownPlant {
+    std::vector<double> a, b;
+    Border ascending, descending;
+  };
+  std::optional<KnownPlant> regime_oracle;
 };
 
 /// Throws DataError naming `data_name` when the recording lacks a phase, does not match the config, or a phase
