@@ -63,35 +63,10 @@ struct HeldOutError {
   double total = 1.0;
 };
 
-// A backlash's play widened by `delta` at every point of its tables but the two ends, where the borders meet at
-// the references of (3.11c): C~_a lowered, C~_d raised.
-JointModel with_widened_play(JointModel m, double delta) {
-  for (std::size_t k = 1; k + 1 < m.ascending_u.size(); ++k) m.ascending_u[k] -= delta;
-  for (std::size_t k = 1; k + 1 < m.descending_u.size(); ++k) m.descending_u[k] += delta;
-  return m;
-}
-
-// The fold's fit from `start`'s regimes. A backlash whose fold fits its data far worse than `start` fits the
-// identification phases (residual variance over options.lag_poor_fold times) is taken for a poor fixed point of
-// the regime iteration: in the misses of the tuning seeds (1067, 1099, 1126) the model's backlash follows the
-// small moves of the lagged input that the plant's play absorbs (the last pulses of each period), so the fold is
-// fitted again from its own borders with the play widened (options.lag_fold_widened_play), and the lower RSS kept.
-template <class Fit>
-JointModel fold_fit(Fit fit, double lambda, const JointModel& start, const FlatRecording& fold,
-                    const DiagnosisOptions& options) {
-  JointModel m = fit(lambda, &start, fold);
-  if (!m.ok || start.structure.op != OperatorKind::kBacklash || !(options.lag_fold_widened_play > 0)) return m;
-  const auto variance = [](const JointModel& model) { return model.rss / static_cast<double>(model.rows); };
-  if (!(variance(m) > options.lag_poor_fold * variance(start))) return m;
-  const JointModel widened = with_widened_play(m, options.lag_fold_widened_play);
-  JointModel again = fit(lambda, &widened, fold);
-  return again.ok && again.rss < m.rss ? again : m;
-}
-
 template <class Fit>
 HeldOutError held_out_error(Fit fit, double lambda, const JointModel& start, const ValFolds& folds, std::size_t k,
-                            const FlatRecording& data, const DiagnosisOptions& options) {
-  const JointModel m = fold_fit(fit, lambda, start, folds.train[k], options);
+                            const FlatRecording& data) {
+  const JointModel m = fit(lambda, &start, folds.train[k]);
   if (!m.ok) return {};
   const auto [begin, end] = folds.held_out[k];
   const std::vector<double> sim = simulate_segment(m, data, begin, end);
@@ -238,8 +213,7 @@ std::size_t best_cross(const LagPath& p) {
 // model's regimes): the pooled simulation fit of the two held-out halves, 100 (1 - sqrt(sum of errors / sum of
 // energies)); the others keep -infinity. The fold fits (point, fold) run on two threads.
 template <class Fit>
-void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data, double max_rss,
-                    const DiagnosisOptions& options) {
+void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRecording& data, double max_rss) {
   const std::size_t count = path.model.size();
   std::vector<std::size_t> points;
   for (std::size_t i = 0; i < count; ++i) {
@@ -248,7 +222,7 @@ void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRec
   std::vector<std::array<HeldOutError, 2>> held_out(count);
   on_two_threads(2 * points.size(), [&](std::size_t task) {
     const std::size_t i = points[task / 2], k = task % 2;
-    held_out[i][k] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data, options);
+    held_out[i][k] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data);
   });
   for (std::size_t i = 0; i < count; ++i) {
     const double error = held_out[i][0].error + held_out[i][1].error;
@@ -331,7 +305,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   const ValFolds folds = cross ? val_folds(data, val) : ValFolds{};
   const double min_rss = fine_rss.rss;
   const double max_cross_rss = options.lag_cross_validated_rss * min_rss;
-  if (cross) cross_validate(fine, path, folds, data, max_cross_rss, options);
+  if (cross) cross_validate(fine, path, folds, data, max_cross_rss);
   const double samples = static_cast<double>(best_coarse.rows);
   const double gain = samples * std::log(best_coarse.rss / min_rss);
   const double cost = static_cast<double>(fine_rss.parameters - best_coarse.parameters) * std::log(samples);
@@ -346,7 +320,7 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
   }
   LagPath near = fit_lag_path(fine, path.model[at], local, data, val, false);
   if (cross) {
-    cross_validate(fine, near, folds, data, max_cross_rss, options);
+    cross_validate(fine, near, folds, data, max_cross_rss);
     const std::size_t near_at = best_cross(near);
     const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
     JointModel chosen = on_path ? path.model[at] : near.model[near_at];

@@ -175,13 +175,6 @@ struct DiagnosisOptions {
   /// at 10, one input_lag hit of 200 lost and the pairs unchanged; at 3, the pairs lost 5 of 800. Infinity
   /// cross-validates every point.
   double lag_cross_validated_rss = 10.0;
-  /// A backlash's cross-validation fold whose residual variance is more than lag_poor_fold times its point's on
-  /// the identification phases alone is taken for a poor fixed point of its regime iteration, and fitted again
-  /// from its own borders with the play widened by lag_fold_widened_play (in the scaling of (3.11c), where u~
-  /// runs from -1 at v_min to 0 at v_max), keeping the lower RSS (session 29, input_lag_search.cpp). 0 turns it
-  /// off. Chosen on the tuning seeds 1040-1239 (docs/diagnose.md).
-  double lag_fold_widened_play = 0.05;
-  double lag_poor_fold = 1.2;
   /// The fine input-lag model is also used, BIC aside, when it simulates val this many points better.
   double lag_fine_val_gain = 1.0;
   int golden_iterations = 6;       ///< golden-section steps of the lambda search after the 0.05 grid
