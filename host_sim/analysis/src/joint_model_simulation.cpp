@@ -155,12 +155,13 @@ JointModel with_true_plant(const JointModel& model, const std::vector<double>& a
 
 JointModel true_plant_on_tables(const ExperimentConfig& config, int border_segments, const std::vector<double>& a,
                                 const std::vector<double>& b, const Border& ascending, const Border& descending) {
-  const detail::Layout layout = detail::make_layout(config, std::max(border_segments, 1));
+  const int segments = std::max(border_segments, 1);
+  const detail::Layout layout = detail::make_layout(config, segments);
   JointModel tables;
   tables.n = config.n;
   tables.v_min = config.v_min;
   tables.v_max = config.v_max;
-  tables.structure.border_segments = std::max(border_segments, 1);
+  tables.structure.border_segments = segments;
   tables.descending_v = layout.descending.x;
   tables.ascending_v = layout.ascending.x;
   tables.descending_u.assign(tables.descending_v.size(), 0.0);
