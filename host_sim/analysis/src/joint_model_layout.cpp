@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "lashid/plant/nearby_search.hpp"
 #include "lashid/plant/operators.hpp"
 #include "model_operator.hpp"
 
@@ -42,9 +43,14 @@ void subdivide(BorderLayout& border, int segments, int& parameters) {
 }  // namespace
 
 HatRow hat_row(const BorderLayout& border, double w) {
+  std::size_t hint = border.x.size() / 2;
+  return hat_row(border, w, hint);
+}
+
+HatRow hat_row(const BorderLayout& border, double w, std::size_t& hint) {
   const auto& x = border.x;
   w = std::clamp(w, x.front(), x.back());
-  auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), w) - x.begin());
+  std::size_t k = upper_bound_near(x, w, hint);
   k = std::clamp<std::size_t>(k, 1, x.size() - 1) - 1;
   const double s = (w - x[k]) / (x[k + 1] - x[k]);
   HatRow row;
@@ -100,7 +106,9 @@ Basis operator_basis(const Layout& layout, const std::vector<double>& w, Operato
   std::unique_ptr<HysteresisOperator> model_op;
   if (op == OperatorKind::kBacklash && current != nullptr) model_op = make_model_operator(*current, w[0]);
   double u_prev = model_op ? model_op->step(w[0]) : 0.0;
-  phi[0] = hat_row(layout.descending, w[0]);
+  // Each border's lookups start where its last one ended: w moves a segment or less per sample.
+  std::size_t ascending_hint = 0, descending_hint = 0;
+  phi[0] = hat_row(layout.descending, w[0], descending_hint);
   for (std::size_t t = 1; t < T; ++t) {
     bool hold = w[t] == w[t - 1];
     if (model_op) {
@@ -108,7 +116,13 @@ Basis operator_basis(const Layout& layout, const std::vector<double>& w, Operato
       hold = hold || u == u_prev;
       u_prev = u;
     }
-    phi[t] = hold ? phi[t - 1] : hat_row(w[t] > w[t - 1] ? layout.ascending : layout.descending, w[t]);
+    if (hold) {
+      phi[t] = phi[t - 1];
+    } else if (w[t] > w[t - 1]) {
+      phi[t] = hat_row(layout.ascending, w[t], ascending_hint);
+    } else {
+      phi[t] = hat_row(layout.descending, w[t], descending_hint);
+    }
   }
   return phi;
 }

@@ -65,6 +65,8 @@ Eigen::VectorXd border_parameters(const JointModel& model, const Layout& layout)
 
 /// The hat-function weights of w on one border (w outside the nodes is clamped, as Border does).
 HatRow hat_row(const BorderLayout& border, double w);
+/// The same, its search started from `hint` (lashid/plant/nearby_search.hpp), which it moves: the same row.
+HatRow hat_row(const BorderLayout& border, double w, std::size_t& hint);
 
 /// phi(t) for every sample: the hat weights on the border the operator moves along, or phi(t-1) while it holds.
 /// The switch's regime depends on the direction of w only; the backlash's also on the borders, taken from

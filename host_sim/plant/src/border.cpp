@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "lashid/plant/nearby_search.hpp"
+
 namespace lashid::sim {
 
 namespace {
@@ -65,11 +67,16 @@ struct Border::Data {
   }
 
   double value(double v) const {
+    std::size_t hint = xs.size() / 2;
+    return value(v, hint);
+  }
+
+  // The same from a hint (nearby_search.hpp).
+  double value(double v, std::size_t& hint) const {
     const double clamped = std::clamp(v, lo, hi);
     if (!table) return f(clamped);
     // Last point with abscissa <= v: at a jump this picks the second (right) point.
-    const auto after = std::upper_bound(xs.begin(), xs.end(), clamped);
-    const auto j = static_cast<std::size_t>(after - xs.begin());
+    const std::size_t j = upper_bound_near(xs, clamped, hint);
     if (j == xs.size()) return ys.back();
     return segment_value(j - 1, clamped);
   }
@@ -379,5 +386,7 @@ std::optional<double> Border::first_reach(double level, double a, double b) cons
 bool Border::reaches(double level, double a, double b, Scan scan) const {
   return data_->meets(level, a, b, scan == Scan::from_right);
 }
+
+double Border::operator()(double v, Hint& hint) const { return data_->value(v, hint.index); }
 
 }  // namespace lashid::sim

@@ -32,9 +32,9 @@ SwitchOperator::SwitchOperator(Border ascending, Border descending)
 double SwitchOperator::step(double v) {
   require_number(v, "SwitchOperator");
   if (v > v_prev_) {
-    u_prev_ = ascending_(v);
+    u_prev_ = ascending_(v, ascending_hint_);
   } else if (v < v_prev_) {
-    u_prev_ = descending_(v);
+    u_prev_ = descending_(v, descending_hint_);
   }
   v_prev_ = v;
   return u_prev_;
@@ -69,7 +69,7 @@ double BacklashOperator::step(double v) {
   require_number(v, "BacklashOperator");
   if (v < v_prev_) {
     if (on_descending_ || descending_.reaches(u_prev_, v, v_prev_)) {
-      u_prev_ = descending_(v);
+      u_prev_ = descending_(v, descending_hint_);
       on_descending_ = true;
       on_ascending_ = false;  // Unknown: the borders may cross here; a later search decides.
     } else {
@@ -77,7 +77,7 @@ double BacklashOperator::step(double v) {
     }
   } else if (v > v_prev_) {
     if (on_ascending_ || ascending_.reaches(u_prev_, v_prev_, v, Border::Scan::from_left)) {
-      u_prev_ = ascending_(v);
+      u_prev_ = ascending_(v, ascending_hint_);
       on_ascending_ = true;
       on_descending_ = false;
     } else {

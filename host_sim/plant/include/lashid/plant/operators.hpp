@@ -45,6 +45,7 @@ class SwitchOperator final : public HysteresisOperator {
   Border descending_;
   double v_prev_;
   double u_prev_;
+  Border::Hint ascending_hint_, descending_hint_;  // where the last lookups ended (Border::Hint)
 };
 
 // Backlash (2.4), read literally with the borders' domain as working interval:
@@ -72,6 +73,8 @@ class BacklashOperator final : public HysteresisOperator {
   // follows it without a search (see step()). False means "unknown", never "false for sure".
   bool on_ascending_ = false;
   bool on_descending_ = false;
+  // Where the last lookups on each border ended (Border::Hint): the input moves a segment or less per sample.
+  Border::Hint ascending_hint_, descending_hint_;
 };
 
 // First-order input dynamics before an operator (Section 3.5.3, G(q^-1) = (1-lambda)/(1-lambda q^-1)):
