@@ -57,7 +57,8 @@ ValFolds val_folds(const FlatRecording& data, std::pair<std::size_t, std::size_t
 }
 
 // Fold k's simulation error on its held-out half and that half's energy about its own mean; {inf, 1} if the fold
-// fails or its simulation diverges. The fold starts from `start`'s regimes.
+// fails or its simulation diverges. The fold starts from `start`'s regimes; its model is kept as a start for the
+// restarts (search_input_lag), without its residuals (a start's residuals are never read).
 struct HeldOutError {
   double error = std::numeric_limits<double>::infinity();
   double total = 1.0;
@@ -65,8 +66,11 @@ struct HeldOutError {
 
 template <class Fit>
 HeldOutError held_out_error(Fit fit, double lambda, const JointModel& start, const ValFolds& folds, std::size_t k,
-                            const FlatRecording& data) {
-  const JointModel m = fit(lambda, &start, folds.train[k]);
+                            const FlatRecording& data, JointModel& fold) {
+  fold = fit(lambda, &start, folds.train[k]);
+  const JointModel& m = fold;
+  fold.residuals = {};
+  fold.residual_t = {};
   if (!m.ok) return {};
   const auto [begin, end] = folds.held_out[k];
   const std::vector<double> sim = simulate_segment(m, data, begin, end);
@@ -91,6 +95,12 @@ struct LagPath {
   std::vector<JointModel> model;
   std::vector<double> fit_val;
   std::vector<double> fit_cross;
+  /// Whether model[i] is the fit started from model[i - 1] as it now stands: fitting it again from there would
+  /// repeat that fit (repair_path skips it).
+  std::vector<char> from_previous;
+  /// The fold models of the points cross_validate fitted (as starts: without residuals), and which those are.
+  std::vector<std::array<JointModel, 2>> fold;
+  std::vector<char> cross_validated;
 };
 
 std::size_t best_rss(const LagPath& p) {
@@ -111,17 +121,23 @@ void repair_path(Fit fit, LagPath& path, const FlatRecording& data, std::pair<st
   const std::size_t count = path.model.size();
   if (count < 2) return;
   const std::size_t best = best_rss(path);
+  // Returns whether model[i] was replaced.
   const auto repair = [&](std::size_t i, std::size_t inner) {
-    if (!(path.model[i].rss > kPoorFixedPoint * path.model[inner].rss)) return;
+    if (!(path.model[i].rss > kPoorFixedPoint * path.model[inner].rss)) return false;
     JointModel again = fit(path.lambda[i], &path.model[inner], data);
-    if (!again.ok || !(again.rss < path.model[i].rss)) return;
+    if (!again.ok || !(again.rss < path.model[i].rss)) return false;
     path.model[i] = std::move(again);
     path.fit_val[i] = simulation_fit(path.model[i], data, val.first, val.second);
+    return true;
   };
-  // The two directions are independent: one on each thread.
+  // The two directions are independent: one on each thread. Upward, a point fitted from its inner neighbour as it
+  // stands is not fitted again from it (the same fit: it could not lower the RSS); a replaced point's outer
+  // neighbour was fitted from the point before it changed. Downward, the path's fits ran the other way.
   on_two_threads(2, [&](std::size_t upward) {
     if (upward != 0) {
-      for (std::size_t i = best + 1; i < count; ++i) repair(i, i - 1);
+      for (std::size_t i = best + 1; i < count; ++i) {
+        if (path.from_previous[i] == 0 && repair(i, i - 1) && i + 1 < count) path.from_previous[i + 1] = 0;
+      }
     } else {
       for (std::size_t i = best; i-- > 0;) repair(i, i + 1);
     }
@@ -141,10 +157,11 @@ template <class Fit>
 LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<double>& lambdas, const FlatRecording& data,
                      std::pair<std::size_t, std::size_t> val, bool two_starts) {
   LagPath path;
-  const auto add = [&](JointModel m, double lambda) {
+  const auto add = [&](JointModel m, double lambda, bool from_previous) {
     path.lambda.push_back(lambda);
     path.fit_val.push_back(simulation_fit(m, data, val.first, val.second));
     path.fit_cross.push_back(-std::numeric_limits<double>::infinity());
+    path.from_previous.push_back(from_previous ? 1 : 0);
     path.model.push_back(std::move(m));
   };
   if (current.structure.op == OperatorKind::kSwitch) {
@@ -152,7 +169,7 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
     // only a backlash from `initial`), so the path's points are independent.
     std::vector<JointModel> fits = fit_independent(fit, &current, lambdas, data);
     for (std::size_t i = 0; i < fits.size(); ++i) {
-      if (fits[i].ok) add(std::move(fits[i]), lambdas[i]);
+      if (fits[i].ok) add(std::move(fits[i]), lambdas[i], false);
     }
     return path;
   }
@@ -175,14 +192,18 @@ LagPath fit_lag_path(Fit fit, const JointModel& current, const std::vector<doubl
   for (std::size_t i = 0; i < lambdas.size(); ++i) {
     const double lambda = lambdas[i];
     JointModel m = fit(lambda, previous, data);
+    bool from_previous = previous != &current;
     // From the second lambda on: the fit from the previous lambda's regimes, or the one from `current`'s if its
     // RSS is lower (the first is itself from `current`: previous is `current` there).
     if (two_starts && i > 0) {
       JointModel again = from_current[i].get_future().get();
-      if (again.ok && (!m.ok || again.rss < m.rss)) m = std::move(again);
+      if (again.ok && (!m.ok || again.rss < m.rss)) {
+        m = std::move(again);
+        from_previous = false;
+      }
     }
     if (!m.ok) continue;
-    add(std::move(m), lambda);
+    add(std::move(m), lambda, from_previous);
     previous = &path.model.back();
   }
   if (two_starts && current.structure.op == OperatorKind::kBacklash) repair_path(fit, path, data, val);
@@ -220,9 +241,12 @@ void cross_validate(Fit fit, LagPath& path, const ValFolds& folds, const FlatRec
     if (path.model[i].rss <= max_rss) points.push_back(i);
   }
   std::vector<std::array<HeldOutError, 2>> held_out(count);
+  path.fold.assign(count, {});
+  path.cross_validated.assign(count, 0);
+  for (std::size_t i : points) path.cross_validated[i] = 1;
   on_two_threads(2 * points.size(), [&](std::size_t task) {
     const std::size_t i = points[task / 2], k = task % 2;
-    held_out[i][k] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data);
+    held_out[i][k] = held_out_error(fit, path.lambda[i], path.model[i], folds, k, data, path.fold[i][k]);
   });
   for (std::size_t i = 0; i < count; ++i) {
     const double error = held_out[i][0].error + held_out[i][1].error;
@@ -323,14 +347,17 @@ JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording&
     cross_validate(fine, near, folds, data, max_cross_rss);
     const std::size_t near_at = best_cross(near);
     const bool on_path = near_at == near.model.size() || near.fit_cross[near_at] <= path.fit_cross[at];
-    JointModel chosen = on_path ? path.model[at] : near.model[near_at];
+    const LagPath& from = on_path ? path : near;
+    const std::size_t point = on_path ? at : near_at;
+    JointModel chosen = from.model[point];
     if (chosen.structure.op == OperatorKind::kBacklash) {
       // The folds' regimes may be a better start (val's data help to determine their borders): the fit is redone
       // on the identification phases from each, and the lowest RSS kept. A backlash's only (a switch has no
-      // regimes to find); the two folds on two threads.
+      // regimes to find); the two folds on two threads, each the cross-validation's own where it made one.
       const double lambda = chosen.structure.input_lag;
       const auto restart = [&](std::size_t k) {
-        const JointModel fold = fine(lambda, &chosen, folds.train[k]);
+        const JointModel fold =
+            from.cross_validated[point] != 0 ? from.fold[point][k] : fine(lambda, &chosen, folds.train[k]);
         return fold.ok ? fine(lambda, &fold, data) : JointModel{};
       };
       std::array<JointModel, 2> restarted;
