@@ -310,23 +310,17 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
     Basis phi = operator_basis(layout, w, structure.op, start);
     bool consistent = false;
     JointModel model = fit_regimes(phi, start, consistent);
-    // A fit whose own backlash takes the regimes it was fitted with ends the iteration.
+    // A fit whose own backlash takes the regimes it was fitted with ends the iteration. Each pass starts from the
+    // best fit so far, which is also the last one: a pass that does not improve ends the iteration.
     if (consistent) return std::pair{std::move(model), std::move(phi)};
-    JointModel current = model;
-    Basis current_phi = phi;
-    for (int pass = 0; pass < 8 && current.ok && structure.op == OperatorKind::kBacklash; ++pass) {
-      Basis next = operator_basis(layout, w, structure.op, &current);
-      if (next == current_phi) break;
-      current = fit_regimes(next, &current, consistent);
-        current_phi = std::move(next);
-      if (consistent) {
-        model = std::move(current);
-        phi = std::move(current_phi);
-        break;
-      }
-      if (!current.ok || !(current.rss < model.rss)) break;
-      model = current;
-      phi = current_phi;
+    for (int pass = 0; pass < 8 && model.ok && structure.op == OperatorKind::kBacklash; ++pass) {
+      Basis next = operator_basis(layout, w, structure.op, &model);
+      if (next == phi) break;
+      JointModel refitted = fit_regimes(next, &model, consistent);
+      if (!consistent && (!refitted.ok || !(refitted.rss < model.rss))) break;
+      model = std::move(refitted);
+      phi = std::move(next);
+      if (consistent) break;
     }
     return std::pair{std::move(model), std::move(phi)};
   };

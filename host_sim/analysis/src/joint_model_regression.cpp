@@ -179,7 +179,18 @@ NormalEquations least_squares_equations(const RegressionShape& g, const FlatReco
     }
   }
   ne.yy = yy;
-  zx.triangularView<Eigen::StrictlyLower>() = zx.transpose();
+  // The lower triangle from the upper one, tile by tile: column by column, the transposed reads would take a
+  // cache line each.
+  constexpr Eigen::Index kTile = 32;
+  const Eigen::Index cols = g.cols;
+  for (Eigen::Index c0 = 0; c0 < cols; c0 += kTile) {
+    for (Eigen::Index r0 = c0; r0 < cols; r0 += kTile) {
+      const Eigen::Index c1 = std::min(c0 + kTile, cols), r1 = std::min(r0 + kTile, cols);
+      for (Eigen::Index c = c0; c < c1; ++c) {
+        for (Eigen::Index r = std::max(r0, c + 1); r < r1; ++r) m[r + c * ld] = m[c + r * ld];
+      }
+    }
+  }
   ne.energy = zx.diagonal();
   return ne;
 }
