@@ -1,5 +1,5 @@
-// The searches that start from a hint (lashid/plant/nearby_search.hpp) and the border lookups built on them: the
-// oracle is the standard library's binary search, and the same Border's lookups without a hint.
+// The search that starts from a hint (lashid/plant/nearby_search.hpp) and the border values built on it: the
+// oracles are the standard library's binary search and the same Border's values without a hint.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,7 +27,7 @@ class Draws {
   std::uint64_t state_;
 };
 
-// Sorted tables with repeated values (ties are where upper and lower bounds differ), sizes 1 to 40.
+// Sorted tables with repeated values (ties: the index is the one after the last equal element), sizes 1 to 40.
 std::vector<double> sorted_table(Draws& draws) {
   const std::size_t n = 1 + draws.index(40);
   std::vector<double> xs;
@@ -49,11 +49,8 @@ double query(Draws& draws, const std::vector<double>& xs) {
 std::size_t standard_upper(const std::vector<double>& xs, double v) {
   return static_cast<std::size_t>(std::upper_bound(xs.begin(), xs.end(), v) - xs.begin());
 }
-std::size_t standard_lower(const std::vector<double>& xs, double v) {
-  return static_cast<std::size_t>(std::lower_bound(xs.begin(), xs.end(), v) - xs.begin());
-}
 
-TEST(NearbySearch, GivesTheStandardBoundsFromAnyHint) {
+TEST(NearbySearch, GivesTheStandardUpperBoundFromAnyHint) {
   Draws draws(5101);
   int far = 0;  // queries whose answer is more than two places from the hint: the binary-search fallback
   for (int table = 0; table < 300; ++table) {
@@ -67,10 +64,7 @@ TEST(NearbySearch, GivesTheStandardBoundsFromAnyHint) {
       ASSERT_EQ(upper_bound_near(xs, v, hint), upper) << "table " << table << " query " << q;
       EXPECT_EQ(hint, upper);
       far += upper + 2 < start || start + 2 < upper;
-      hint = start;
-      ASSERT_EQ(lower_bound_near(xs, v, hint), standard_lower(xs, v)) << "table " << table << " query " << q;
       ASSERT_EQ(upper_bound_near(xs, v, walk), upper);
-      ASSERT_EQ(lower_bound_near(xs, v, walk), standard_lower(xs, v));
     }
   }
   EXPECT_GT(far, 2000);  // the fallback is exercised, not only the neighbours

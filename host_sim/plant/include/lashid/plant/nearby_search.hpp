@@ -1,10 +1,10 @@
-// Binary searches of a sorted table that start from where the previous one ended.
+// A binary search of a sorted table that starts from where the previous one ended.
 //
 // An operator run over a recording looks up its input in a border table at every sample, and the input moves by a
-// segment or less per sample most of the time: the answer is the previous one or a neighbour. These searches look
-// there first and fall back to a binary search over the part of the table that is left. They return exactly the
-// index std::upper_bound / std::lower_bound would (the index that splits the table is unique), whatever the hint:
-// only the time differs.
+// segment or less per sample most of the time: the answer is the previous one or a neighbour. The search looks
+// there first and falls back to a binary search over the part of the table that is left. It returns exactly the
+// index std::upper_bound would (the index that splits the table is unique), whatever the hint: only the time
+// differs.
 #pragma once
 
 #include <algorithm>
@@ -45,12 +45,6 @@ std::size_t partition_from(const std::vector<double>& xs, std::size_t hint, Befo
 /// std::upper_bound(xs, v) as an index (the first element > v), searched from `hint`, which it becomes.
 inline std::size_t upper_bound_near(const std::vector<double>& xs, double v, std::size_t& hint) {
   hint = nearby_detail::partition_from(xs, hint, [v](double x) { return x <= v; });
-  return hint;
-}
-
-/// std::lower_bound(xs, v) as an index (the first element >= v), searched from `hint`, which it becomes.
-inline std::size_t lower_bound_near(const std::vector<double>& xs, double v, std::size_t& hint) {
-  hint = nearby_detail::partition_from(xs, hint, [v](double x) { return x < v; });
   return hint;
 }
 
