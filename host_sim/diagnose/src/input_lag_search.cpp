@@ -68,12 +68,11 @@ template <class Fit>
 HeldOutError held_out_error(Fit fit, double lambda, const JointModel& start, const ValFolds& folds, std::size_t k,
                             const FlatRecording& data, JointModel& fold) {
   fold = fit(lambda, &start, folds.train[k]);
-  const JointModel& m = fold;
   fold.residuals = {};
   fold.residual_t = {};
-  if (!m.ok) return {};
+  if (!fold.ok) return {};
   const auto [begin, end] = folds.held_out[k];
-  const std::vector<double> sim = simulate_segment(m, data, begin, end);
+  const std::vector<double> sim = simulate_segment(fold, data, begin, end);
   double mean = 0;
   for (std::size_t t = begin; t < end; ++t) mean += data.y[t];
   mean /= static_cast<double>(end - begin);

@@ -14,38 +14,25 @@
 
 namespace lashid::sim {
 
-namespace nearby_detail {
-
-/// The first index i of `xs` whose element is not `before` (before must hold on a prefix of xs), from `hint`.
-template <class Before>
-std::size_t partition_from(const std::vector<double>& xs, std::size_t hint, Before before) {
+/// std::upper_bound(xs, v) as an index (the first element > v), searched from `hint`, which it becomes.
+inline std::size_t upper_bound_near(const std::vector<double>& xs, double v, std::size_t& hint) {
   constexpr int kSteps = 2;  // neighbours tried on either side before the binary search
   const std::size_t n = xs.size();
   std::size_t i = std::min(hint, n);
-  if (i < n && before(xs[i])) {  // the answer lies above i
+  const auto at = [&xs](std::size_t k) { return xs.begin() + static_cast<std::ptrdiff_t>(k); };
+  const auto answer = [&](std::size_t k) { return hint = k; };
+  if (i < n && xs[i] <= v) {  // the answer lies above i
     for (int k = 0; k < kSteps; ++k) {
       ++i;
-      if (i == n || !before(xs[i])) return i;
+      if (i == n || xs[i] > v) return answer(i);
     }
-    const auto from = xs.begin() + static_cast<std::ptrdiff_t>(i);
-    return static_cast<std::size_t>(std::partition_point(from, xs.end(), before) - xs.begin());
+    return answer(static_cast<std::size_t>(std::upper_bound(at(i), xs.end(), v) - xs.begin()));
   }
-  // Here i == n or xs[i] is not before: the answer is i or below.
-  for (int k = 0; k < kSteps; ++k) {
-    if (i == 0 || before(xs[i - 1])) return i;
-    --i;
+  // Here i == n or xs[i] > v: the answer is i or below.
+  for (int k = 0; k <= kSteps; ++k, --i) {
+    if (i == 0 || xs[i - 1] <= v) return answer(i);
   }
-  if (i == 0 || before(xs[i - 1])) return i;
-  const auto to = xs.begin() + static_cast<std::ptrdiff_t>(i);
-  return static_cast<std::size_t>(std::partition_point(xs.begin(), to, before) - xs.begin());
-}
-
-}  // namespace nearby_detail
-
-/// std::upper_bound(xs, v) as an index (the first element > v), searched from `hint`, which it becomes.
-inline std::size_t upper_bound_near(const std::vector<double>& xs, double v, std::size_t& hint) {
-  hint = nearby_detail::partition_from(xs, hint, [v](double x) { return x <= v; });
-  return hint;
+  return answer(static_cast<std::size_t>(std::upper_bound(xs.begin(), at(i), v) - xs.begin()));
 }
 
 }  // namespace lashid::sim
