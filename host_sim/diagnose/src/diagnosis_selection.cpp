@@ -10,24 +10,13 @@
 #include <optional>
 #include <utility>
 
+#include "diagnosis_steps.hpp"
 #include "lashid/estimator/design.hpp"
 #include "two_threads.hpp"
 
 namespace lashid::sim::detail {
 
 namespace {
-
-// The model the selection has built so far, with the evidence the next step compares against.
-struct CurrentModel {
-  JointModel model;
-  double fit = 0;
-  std::vector<double> val_simulation;
-  ResidualAnalysis identification;
-  /// val fit of the same structure fitted by instrumental variables (-infinity when that fails or diverges).
-  double fit_instrumental = -std::numeric_limits<double>::infinity();
-  /// The structure the model's lambda was last searched on (CandidateCause::lag_searched_on).
-  std::optional<ModelStructure> lag_searched_on = std::nullopt;
-};
 
 bool white(const ResidualAnalysis& r, const DiagnosisOptions& options) { return r.whiteness.p_value >= options.white_p; }
 
@@ -70,41 +59,6 @@ bool structural_accepted(const CandidateCause& c, const CurrentModel& current, c
                         std::max(val_gain, like_gain) >= options.explaining_val_gain;
   const double checked_gain = options.instrumental_val_check ? std::max(val_gain, like_gain) : val_gain;
   return explains && checked_gain > options.min_val_gain && beats_instrumental;
-}
-
-// `model` becomes the current model, with its val simulation and identification residuals.
-void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, const FlatRecording& data) {
-  current.model = model;
-  current.fit = simulation_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
-  current.identification = residuals(current.model, data, false);
-}
-
-// The last step ends at the current model (after a change made once the selection is done), so that the steps
-// still add up to the total gain.
-void end_last_step_here(Diagnosis& d, const CurrentModel& current) {
-  if (d.added.empty()) return;
-  d.added.back().fit_after = current.fit;
-  d.added.back().ljung_box_after = current.identification.whiteness.statistic;
-}
-
-// The structure without `cause` (an input lag goes with its finer border tables); the same structure for a cause
-// that is not structural.
-ModelStructure without_cause(ModelStructure s, Cause cause) {
-  switch (cause) {
-    case Cause::kSensorDrift:
-      s.drift = false;
-      break;
-    case Cause::kDeadTime:
-      s.delay = 0;
-      break;
-    case Cause::kInputLag:
-      s.input_lag = 0;
-      s.border_segments = 1;
-      break;
-    default:
-      break;
-  }
-  return s;
 }
 
 // Whether two structures have the same causes other than the input lag (the lag's own fields, lambda and the
@@ -161,75 +115,6 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   current.val_simulation = std::move(simulated);
   current.identification = residuals(current.model, data, false);
   end_last_step_here(d, current);  // the last step's gain includes the re-searched lambda
-}
-
-// From the last added to the first, each structural cause for which `without(cause)` gives a model is dropped, and
-// that model becomes the current one. The steps still add up to the total: the next step starts where the dropped
-// one did, the last ends here. Returns how many were dropped.
-template <class Without>
-int drop_causes(Diagnosis& d, CurrentModel& current, const FlatRecording& data, Without without) {
-  int count = 0;
-  for (std::size_t i = d.added.size(); i-- > 0;) {
-    const Cause cause = d.added[i].cause;
-    if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
-    const std::optional<JointModel> reduced = without(cause);
-    if (!reduced) continue;
-    const AddedCause dropped = d.added[i];
-    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
-    adopt(current, *reduced, d, data);
-    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
-    end_last_step_here(d, current);
-    ++count;
-  }
-  return count;
-}
-
-// Backward elimination once the forward selection is done: a structural cause that the final model no longer
-// needs (refitted without it, the others kept as they are, the likelihood ratio is not significant) is dropped.
-// The two-causes fallback adds a pair whose first member is not tested alone: on curved borders a drift of
-// nothing came in with an input lag (a drift_total of 1e-4 to 0.05 where none was hidden).
-void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
-                          const FlatRecording& data, const DiagnosisOptions& options) {
-  if (!options.backward_elimination) return;
-  drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
-    JointModel reduced =
-        fit_joint_model(config, data, without_cause(current.model.structure, cause), &current.model);
-    if (!reduced.ok || detail::significant(detail::likelihood_ratio(reduced, current.model), options)) {
-      return std::nullopt;
-    }
-    return reduced;
-  });
-}
-
-// Once colored_noise is named, the structural causes are judged again by the estimator that a coloured
-// disturbance calls for. Under sensor noise least squares accepts extensions that only absorb the noise (their
-// likelihood ratio is not valid then), and the val and IV checks let some through: an input lag or a dead time
-// beside the noise of order-3 plants (tuning seeds 1195, 1201, 1222, 1227 of colored_noise; 1194, 1079 and 1104 of
-// the pairs with it). A cause is dropped when the structure without it, fitted by the colored_noise estimator (IV,
-// then output error), simulates val more than options.coloured_backward_gain points better than the model found.
-// A margin, not any gain: true dead times beside sensor noise lost 0.3 to 0.6 points on val to their removal
-// (pairs 1078, 1125: hits that a margin of 0 lost), the noise-absorbing causes 9.6 to 40.8.
-void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
-                           const FlatRecording& data, const DiagnosisOptions& options) {
-  if (!options.coloured_backward) return;
-  const int dropped = drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
-    ModelStructure s = without_cause(current.model.structure, cause);
-    s.instrumental = true;
-    s.output_error = options.coloured_output_error;
-    JointModel reduced = fit_joint_model(config, data, s, &current.model);
-    if (!reduced.ok ||
-        !(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
-      return std::nullopt;
-    }
-    return reduced;
-  });
-  if (dropped == 0) return;
-  // colored_noise's model is now the colored_noise estimator's fit.
-  for (AddedCause& a : d.added) {
-    if (a.cause != Cause::kColoredNoise) continue;
-    a.parameters.instrumental_variables = true;
-    a.parameters.output_error = current.model.structure.output_error;
-  }
 }
 
 }  // namespace

@@ -156,6 +156,9 @@ struct DiagnosisOptions {
   bool coloured_backward = true;
   double coloured_backward_gain = 5.0;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
+  /// Once colored_noise is named, an operator flip stays only if it passes operator_sse_ratio against the structure
+  /// flipped back, both fitted by the colored_noise estimator (drop_absorbing_flip, diagnosis_selection.cpp).
+  bool coloured_operator_check = true;
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models

@@ -1,0 +1,159 @@
+// The current model's bookkeeping and the steps that change it once the forward selection is done
+// (diagnosis_steps.hpp; docs/diagnose.md "Decision").
+#include "diagnosis_steps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace lashid::sim::detail {
+
+void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, const FlatRecording& data) {
+  current.model = model;
+  current.fit = simulation_fit(current.model, data, d.val_begin, d.val_end, &current.val_simulation);
+  current.identification = residuals(current.model, data, false);
+}
+
+void end_last_step_here(Diagnosis& d, const CurrentModel& current) {
+  if (d.added.empty()) return;
+  d.added.back().fit_after = current.fit;
+  d.added.back().ljung_box_after = current.identification.whiteness.statistic;
+}
+
+ModelStructure without_cause(ModelStructure s, Cause cause) {
+  switch (cause) {
+    case Cause::kSensorDrift:
+      s.drift = false;
+      break;
+    case Cause::kDeadTime:
+      s.delay = 0;
+      break;
+    case Cause::kInputLag:
+      s.input_lag = 0;
+      s.border_segments = 1;
+      break;
+    default:
+      break;
+  }
+  return s;
+}
+
+namespace {
+
+// From the last added to the first, each structural cause for which `without(cause)` gives a model is dropped, and
+// that model becomes the current one. The steps still add up to the total: the next step starts where the dropped
+// one did, the last ends here. Returns how many were dropped.
+template <class Without>
+int drop_causes(Diagnosis& d, CurrentModel& current, const FlatRecording& data, Without without) {
+  int count = 0;
+  for (std::size_t i = d.added.size(); i-- > 0;) {
+    const Cause cause = d.added[i].cause;
+    if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
+    const std::optional<JointModel> reduced = without(cause);
+    if (!reduced) continue;
+    const AddedCause dropped = d.added[i];
+    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
+    adopt(current, *reduced, d, data);
+    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
+    end_last_step_here(d, current);
+    ++count;
+  }
+  return count;
+}
+
+// colored_noise's model is now the colored_noise estimator's fit (after a cause was dropped for it).
+void colored_noise_model_is_current(Diagnosis& d, const CurrentModel& current) {
+  for (AddedCause& a : d.added) {
+    if (a.cause != Cause::kColoredNoise) continue;
+    a.parameters.instrumental_variables = true;
+    a.parameters.output_error = current.model.structure.output_error;
+  }
+}
+
+// Once colored_noise is named, the structural causes are judged again by the estimator that a coloured
+// disturbance calls for. Under sensor noise least squares accepts extensions that only absorb the noise (their
+// likelihood ratio is not valid then), and the val and IV checks let some through: an input lag or a dead time
+// beside the noise of order-3 plants (tuning seeds 1195, 1201, 1222, 1227 of colored_noise; 1194, 1079 and 1104 of
+// the pairs with it). A cause is dropped when the structure without it, fitted by the colored_noise estimator (IV,
+// then output error), simulates val more than options.coloured_backward_gain points better than the model found.
+// A margin, not any gain: true dead times beside sensor noise lost 0.3 to 0.6 points on val to their removal
+// (pairs 1078, 1125: hits that a margin of 0 lost), the noise-absorbing causes 9.6 to 40.8.
+void drop_absorbing_structure(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                              const FlatRecording& data, const DiagnosisOptions& options) {
+  if (!options.coloured_backward) return;
+  const int dropped = drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
+    ModelStructure s = without_cause(current.model.structure, cause);
+    s.instrumental = true;
+    s.output_error = options.coloured_output_error;
+    JointModel reduced = fit_joint_model(config, data, s, &current.model);
+    if (!reduced.ok ||
+        !(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
+      return std::nullopt;
+    }
+    return reduced;
+  });
+  if (dropped > 0) colored_noise_model_is_current(d, current);
+}
+
+// An operator flip accepted by least squares is judged again, once colored_noise is named, by the same test with the
+// colored_noise estimator: the structure with the operator flipped back is fitted by it (no start: the regimes of
+// the other operator do not apply), and the flip stays only if the model found brings the val error energy below
+// operator_sse_ratio of that fit's. Under sensor noise the flipped least-squares model can simulate val better by
+// absorbing the noise: on the tuning seeds 1040-1239 (session 32) 10 pairs named a flip beside colored_noise where
+// none was hidden; with this check 8 of them are right (dead_time+colored_noise 1046, 1120: val fit 74.6 and 75.8 %
+// with the flip, 93.0 and 87.4 % without it), and no single cause changed.
+void drop_absorbing_flip(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                         const FlatRecording& data, const DiagnosisOptions& options) {
+  if (!options.coloured_operator_check) return;
+  const auto flip = std::find_if(d.added.begin(), d.added.end(),
+                                 [](const AddedCause& a) { return a.cause == Cause::kOperatorType; });
+  if (flip == d.added.end()) return;
+  ModelStructure s = current.model.structure;
+  s.op = s.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+  s.instrumental = true;
+  s.output_error = options.coloured_output_error;
+  const JointModel back = fit_joint_model(config, data, s);
+  if (!back.ok) return;
+  std::vector<double> simulated;
+  simulation_fit(back, data, d.val_begin, d.val_end, &simulated);
+  const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
+  const double back_sse = sse(simulated, measured), found_sse = sse(current.val_simulation, measured);
+  if (!std::isfinite(back_sse) || found_sse < options.operator_sse_ratio * back_sse) return;
+  const auto i = static_cast<std::size_t>(flip - d.added.begin());
+  const double fit_before = flip->fit_before;
+  d.added.erase(flip);
+  adopt(current, back, d, data);
+  if (i < d.added.size()) d.added[i].fit_before = fit_before;
+  end_last_step_here(d, current);
+  colored_noise_model_is_current(d, current);
+}
+
+}  // namespace
+
+// Backward elimination (diagnosis_steps.hpp).
+// The two-causes fallback adds a pair whose first member is not tested alone: on curved borders a drift of
+// nothing came in with an input lag (a drift_total of 1e-4 to 0.05 where none was hidden).
+void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                          const FlatRecording& data, const DiagnosisOptions& options) {
+  if (!options.backward_elimination) return;
+  drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
+    JointModel reduced =
+        fit_joint_model(config, data, without_cause(current.model.structure, cause), &current.model);
+    if (!reduced.ok || detail::significant(detail::likelihood_ratio(reduced, current.model), options)) {
+      return std::nullopt;
+    }
+    return reduced;
+  });
+}
+
+void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                           const FlatRecording& data, const DiagnosisOptions& options) {
+  drop_absorbing_structure(d, current, config, data, options);
+  drop_absorbing_flip(d, current, config, data, options);
+}
+
+}  // namespace lashid::sim::detail
