@@ -152,12 +152,13 @@ struct DiagnosisOptions {
   bool coloured_aperiodic = true;
   /// Once colored_noise is named, a structural cause is dropped if the structure without it, fitted by the
   /// colored_noise estimator, simulates val more than coloured_backward_gain points better (drop_absorbing_causes,
-  /// diagnosis_selection.cpp; session 13, chosen on the tuning seeds 1040-1239).
+  /// diagnosis_steps.cpp; session 13, chosen on the tuning seeds 1040-1239).
   bool coloured_backward = true;
   double coloured_backward_gain = 5.0;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   /// Once colored_noise is named, an operator flip stays only if it passes operator_sse_ratio against the structure
-  /// flipped back, both fitted by the colored_noise estimator (drop_absorbing_flip, diagnosis_selection.cpp).
+  /// flipped back, both fitted by the colored_noise estimator (drop_absorbing_flip, diagnosis_steps.cpp; session 32,
+  /// decided on the tuning seeds 1040-1239).
   bool coloured_operator_check = true;
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
