@@ -44,6 +44,16 @@ ModelStructure without_cause(ModelStructure s, Cause cause) {
 
 namespace {
 
+// Removes step i; the step after it, if any, starts where the removed one did (its val fit and residual statistic
+// before), so that the steps still add up from the nominal model.
+void erase_step(Diagnosis& d, std::size_t i) {
+  const AddedCause removed = d.added[i];
+  d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
+  if (i == d.added.size()) return;
+  d.added[i].fit_before = removed.fit_before;
+  d.added[i].ljung_box_before = removed.ljung_box_before;
+}
+
 // From the last added to the first, each structural cause for which `without(cause)` gives a model is dropped, and
 // that model becomes the current one. The steps still add up to the total: the next step starts where the dropped
 // one did, the last ends here. Returns how many were dropped.
@@ -55,10 +65,8 @@ int drop_causes(Diagnosis& d, CurrentModel& current, const FlatRecording& data, 
     if (cause != Cause::kSensorDrift && cause != Cause::kDeadTime && cause != Cause::kInputLag) continue;
     const std::optional<JointModel> reduced = without(cause);
     if (!reduced) continue;
-    const AddedCause dropped = d.added[i];
-    d.added.erase(d.added.begin() + static_cast<std::ptrdiff_t>(i));
+    erase_step(d, i);
     adopt(current, *reduced, d, data);
-    if (i < d.added.size()) d.added[i].fit_before = dropped.fit_before;
     end_last_step_here(d, current);
     ++count;
   }
@@ -123,11 +131,8 @@ void drop_absorbing_flip(Diagnosis& d, CurrentModel& current, const ExperimentCo
   const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
   const double back_sse = sse(simulated, measured), found_sse = sse(current.val_simulation, measured);
   if (!std::isfinite(back_sse) || found_sse < options.operator_sse_ratio * back_sse) return;
-  const auto i = static_cast<std::size_t>(flip - d.added.begin());
-  const double fit_before = flip->fit_before;
-  d.added.erase(flip);
+  erase_step(d, static_cast<std::size_t>(flip - d.added.begin()));
   adopt(current, back, d, data);
-  if (i < d.added.size()) d.added[i].fit_before = fit_before;
   end_last_step_here(d, current);
   colored_noise_model_is_current(d, current);
 }
