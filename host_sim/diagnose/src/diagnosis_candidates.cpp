@@ -146,6 +146,13 @@ double sse(std::span<const double> a, std::span<const double> b) {
   return s;
 }
 
+double flip_error_ratio(std::span<const double> before_val, std::span<const double> after_val,
+                        std::span<const double> measured) {
+  const double before_sse = sse(before_val, measured), after_sse = sse(after_val, measured);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  return std::isfinite(before_sse) ? after_sse / before_sse : (std::isfinite(after_sse) ? 0.0 : kInf);
+}
+
 CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,
                             Cause cause, const DiagnosisOptions& options) {
   CandidateCause c;
@@ -197,10 +204,8 @@ void score_candidate(CandidateCause& c, const JointModel& before, std::span<cons
   if (c.cause == Cause::kOperatorType) {
     // Same fit on the identification phases when the experiments make F static; only val can tell.
     const std::span<const double> measured(data.y.data() + val_begin, val_end - val_begin);
-    const double before_sse = sse(before_val, measured), after_sse = sse(simulated, measured);
     // Against a model whose val simulation diverges, the flipped operator counts only if its own does not.
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    const double ratio = std::isfinite(before_sse) ? after_sse / before_sse : (std::isfinite(after_sse) ? 0.0 : kInf);
+    const double ratio = flip_error_ratio(before_val, simulated, measured);
     c.statistic = std::isfinite(ratio) ? ratio : std::numeric_limits<double>::infinity();
     c.p_value = ratio < options.operator_sse_ratio ? 0.0 : 1.0;
   } else if (c.cause != Cause::kColoredNoise) {

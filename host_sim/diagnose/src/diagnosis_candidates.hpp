@@ -31,6 +31,12 @@ double aperiodic_correlation(const JointModel& model, const FlatRecording& data,
 
 double sse(std::span<const double> a, std::span<const double> b);
 
+/// The test statistic of a flipped operator (DiagnosisOptions::operator_sse_ratio): the val error energy of the model
+/// with it (`after_val`, simulated) over that of the model before it; against a model whose val simulation
+/// diverges, 0 if the flipped one's does not, infinity if it does too.
+double flip_error_ratio(std::span<const double> before_val, std::span<const double> after_val,
+                        std::span<const double> measured);
+
 /// `current` extended by an input lag: lambda over its range, with borders linear between the levels or finer
 /// (input_lag_search.cpp).
 JointModel search_input_lag(const ExperimentConfig& config, const FlatRecording& data, const JointModel& current,

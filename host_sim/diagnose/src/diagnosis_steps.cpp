@@ -127,10 +127,10 @@ void drop_absorbing_flip(Diagnosis& d, CurrentModel& current, const ExperimentCo
   const JointModel back = fit_joint_model(config, data, s);
   if (!back.ok) return;
   std::vector<double> simulated;
-  simulation_fit(back, data, d.val_begin, d.val_end, &simulated);
+  // A flipped-back fit whose val simulation diverges cannot judge the flip: it stays.
+  if (!std::isfinite(simulation_fit(back, data, d.val_begin, d.val_end, &simulated))) return;
   const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
-  const double back_sse = sse(simulated, measured), found_sse = sse(current.val_simulation, measured);
-  if (!std::isfinite(back_sse) || found_sse < options.operator_sse_ratio * back_sse) return;
+  if (flip_error_ratio(simulated, current.val_simulation, measured) < options.operator_sse_ratio) return;
   erase_step(d, static_cast<std::size_t>(flip - d.added.begin()));
   adopt(current, back, d, data);
   end_last_step_here(d, current);
