@@ -146,6 +146,12 @@ double sse(std::span<const double> a, std::span<const double> b) {
   return s;
 }
 
+ModelStructure coloured_estimator(ModelStructure s, const DiagnosisOptions& options) {
+  s.instrumental = true;
+  s.output_error = options.coloured_output_error;
+  return s;
+}
+
 double flip_error_ratio(std::span<const double> before_val, std::span<const double> after_val,
                         std::span<const double> measured) {
   const double before_sse = sse(before_val, measured), after_sse = sse(after_val, measured);
@@ -174,15 +180,13 @@ CandidateCause extend_model(const ExperimentConfig& config, const FlatRecording&
       c.parameters.drift_total = c.model.drift_total();
       break;
     case Cause::kColoredNoise:
-      s.instrumental = true;
-      s.output_error = options.coloured_output_error;
-      c.model = fit_joint_model(config, data, s, &current);
+      c.model = fit_joint_model(config, data, coloured_estimator(s, options), &current);
       c.parameters.instrumental_variables = true;
       c.parameters.output_error = c.model.structure.output_error;
       break;
     case Cause::kOperatorType:
       // No starting regimes from `current`: they are the other operator's.
-      s.op = s.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+      s.op = other_operator(s.op);
       c.model = fit_joint_model(config, data, s);
       c.parameters.op = s.op;
       break;

@@ -31,6 +31,10 @@ double aperiodic_correlation(const JointModel& model, const FlatRecording& data,
 
 double sse(std::span<const double> a, std::span<const double> b);
 
+/// `s` fitted by the estimator a coloured disturbance calls for (colored_noise's): instrumental variables, then output
+/// error where options.coloured_output_error.
+ModelStructure coloured_estimator(ModelStructure s, const DiagnosisOptions& options);
+
 /// The test statistic of a flipped operator (DiagnosisOptions::operator_sse_ratio): the val error energy of the model
 /// with it (`after_val`, simulated) over that of the model before it; against a model whose val simulation
 /// diverges, 0 if the flipped one's does not, infinity if it does too.

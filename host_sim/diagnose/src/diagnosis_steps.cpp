@@ -94,9 +94,7 @@ void drop_absorbing_structure(Diagnosis& d, CurrentModel& current, const Experim
                               const FlatRecording& data, const DiagnosisOptions& options) {
   if (!options.coloured_backward) return;
   const int dropped = drop_causes(d, current, data, [&](Cause cause) -> std::optional<JointModel> {
-    ModelStructure s = without_cause(current.model.structure, cause);
-    s.instrumental = true;
-    s.output_error = options.coloured_output_error;
+    const ModelStructure s = coloured_estimator(without_cause(current.model.structure, cause), options);
     JointModel reduced = fit_joint_model(config, data, s, &current.model);
     if (!reduced.ok ||
         !(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
@@ -121,10 +119,8 @@ void drop_absorbing_flip(Diagnosis& d, CurrentModel& current, const ExperimentCo
                                  [](const AddedCause& a) { return a.cause == Cause::kOperatorType; });
   if (flip == d.added.end()) return;
   ModelStructure s = current.model.structure;
-  s.op = s.op == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
-  s.instrumental = true;
-  s.output_error = options.coloured_output_error;
-  const JointModel back = fit_joint_model(config, data, s);
+  s.op = other_operator(s.op);
+  const JointModel back = fit_joint_model(config, data, coloured_estimator(s, options));
   if (!back.ok) return;
   std::vector<double> simulated;
   // A flipped-back fit whose val simulation diverges cannot judge the flip: it stays.

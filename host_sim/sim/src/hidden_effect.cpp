@@ -222,7 +222,7 @@ void apply_effect(HiddenEffectCase& c, Cause cause, const EffectSizes& e, std::u
       break;
     }
     case Cause::kOperatorType:
-      c.config.op = c.effect.true_operator == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+      c.config.op = other_operator(c.effect.true_operator);
       break;
   }
 }

@@ -30,6 +30,10 @@ inline constexpr int kDefaultValLength = 1000;
 inline constexpr std::uint32_t kDefaultValSeed = 1;
 
 enum class OperatorKind { kSwitch, kBacklash };
+/// The other operator type (a switch for a backlash and the reverse).
+constexpr OperatorKind other_operator(OperatorKind kind) {
+  return kind == OperatorKind::kSwitch ? OperatorKind::kBacklash : OperatorKind::kSwitch;
+}
 /// "switch" or "backlash", as in the config file.
 std::string_view to_string(OperatorKind kind);
 
