@@ -12,47 +12,16 @@
 #include <fmt/format.h>
 
 #include "lashid/stats/metrics.hpp"
+#include "lashid/stats/polynomial.hpp"
 #include "fourier.hpp"
 
 namespace lashid::sim {
 
 namespace {
 
-// Roots of z^n + a_1 z^(n-1) + ... + a_n: eigenvalues of the companion matrix.
-std::vector<std::complex<double>> polynomial_roots(const std::vector<double>& a) {
-  const auto n = static_cast<Eigen::Index>(a.size());
-  if (n == 0) return {};
-  Eigen::MatrixXd companion = Eigen::MatrixXd::Zero(n, n);
-  for (Eigen::Index k = 0; k < n; ++k) companion(0, k) = -a[static_cast<std::size_t>(k)];
-  for (Eigen::Index k = 1; k < n; ++k) companion(k, k - 1) = 1.0;
-  const Eigen::EigenSolver<Eigen::MatrixXd> solver(companion, false);
-  std::vector<std::complex<double>> roots;
-  for (Eigen::Index k = 0; k < n; ++k) roots.push_back(solver.eigenvalues()(k));
-  return roots;
-}
-
-// a_1..a_n of prod (z - r_k); the roots come in conjugate pairs, so the imaginary parts cancel.
-std::vector<double> polynomial_from_roots(const std::vector<std::complex<double>>& roots) {
-  std::vector<std::complex<double>> c{1.0};
-  for (const auto& r : roots) {
-    std::vector<std::complex<double>> next(c.size() + 1, 0.0);
-    for (std::size_t k = 0; k < c.size(); ++k) {
-      next[k] += c[k];
-      next[k + 1] -= r * c[k];
-    }
-    c = std::move(next);
-  }
-  std::vector<double> a;
-  for (std::size_t k = 1; k < c.size(); ++k) a.push_back(c[k].real());
-  return a;
-}
-
-bool is_stable(const std::vector<double>& a) {
-  for (const auto& r : polynomial_roots(a)) {
-    if (!(std::abs(r) < 1.0)) return false;
-  }
-  return true;
-}
+using stats::is_stable;
+using stats::polynomial_from_roots;
+using stats::polynomial_roots;
 
 void require_files(const std::vector<FilterData>& files) {
   if (files.empty()) throw std::invalid_argument("output dynamics: no training files");
