@@ -76,6 +76,7 @@ ModelStructure true_structure(const HiddenEffectCase& c, const DiagnosisOptions&
     if (cause == Cause::kColoredNoise) {
       s.instrumental = true;
       s.output_error = options.coloured_output_error;  // the estimator the diagnosis' colored_noise model uses
+      s.output_error_restarts = options.coloured_output_error_restarts;
     }
   }
   return s;

@@ -375,16 +375,7 @@ JointModel fit_joint_model(const ExperimentConfig& config, const FlatRecording& 
   // would make each step a large system); the structure then says which estimator the model is.
   model.structure.output_error = false;
   if (structure.output_error && structure.border_segments <= 1 && model.ok) {
-    JointModel oe = model;
-    if (detail::refine_output_error(oe, layout, data)) {
-      // The one-step residuals of the refitted model on the same rows.
-      oe.residuals = detail::own_residuals(oe, data);
-      oe.rss = 0;
-      for (double e : oe.residuals) oe.rss += e * e;
-      oe.residual_variance = oe.rss / static_cast<double>(oe.rows - static_cast<std::size_t>(oe.parameters));
-      oe.structure.output_error = true;
-      model = std::move(oe);
-    }
+    if (std::optional<JointModel> oe = detail::output_error_fit(model, ls_model, layout, data)) model = std::move(*oe);
   }
   return model;
 }

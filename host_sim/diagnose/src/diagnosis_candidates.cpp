@@ -149,6 +149,7 @@ double sse(std::span<const double> a, std::span<const double> b) {
 ModelStructure coloured_estimator(ModelStructure s, const DiagnosisOptions& options) {
   s.instrumental = true;
   s.output_error = options.coloured_output_error;
+  s.output_error_restarts = options.coloured_output_error_restarts;
   return s;
 }
 

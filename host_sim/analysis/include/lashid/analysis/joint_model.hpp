@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,10 @@ struct ModelStructure {
   /// With instrumental: a_i, b_i, the border values and the offsets then refitted by output error (the simulation
   /// error on the identification phases), where the borders are the experiment's abscissas (border_segments 1).
   bool output_error = false;
+  /// With output_error: output error is also started from the least-squares model and, where the IV model's A is
+  /// unstable, from the IV model with A's unstable roots reflected into the unit circle; the start that ends with
+  /// the lowest simulation error on the identification phases (the criterion) is kept. Off: from the IV model only.
+  bool output_error_restarts = true;
   /// Segments per interval between the experiment's abscissas in the border tables (1: the abscissas only). More
   /// segments only matter where the operator's input moves between the levels (an input lag): there a real
   /// border's curvature between the levels would otherwise bias lambda. Points the data never reach are
@@ -88,6 +93,9 @@ struct JointModel {
   std::size_t rows = 0;
   int parameters = 0;
   double rank_one_ratio = 0;    ///< sigma_2 / sigma_1 of the b c' products (0 = exactly rank one)
+  /// structure.output_error: the criterion output error minimised, the simulation error energy on the
+  /// identification phases (each simulated from its measured start); NaN otherwise.
+  double simulation_sse = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> residuals;         ///< of the regression, on the identification rows
   std::vector<std::size_t> residual_t;   ///< sample index of each residual
   bool ok = false;              ///< false: the regression was singular or the factorisation degenerate
