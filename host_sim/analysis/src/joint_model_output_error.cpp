@@ -13,7 +13,9 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <future>
 #include <limits>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -200,16 +202,33 @@ std::optional<JointModel> output_error_fit(const JointModel& iv, const JointMode
   const std::optional<JointModel> reflected = restarts ? stabilised(iv) : std::nullopt;
   const std::array<const JointModel*, 3> starts{&iv, restarts ? &least_squares : nullptr,
                                                 reflected ? &*reflected : nullptr};
+  struct Refined {
+    JointModel model;
+    double sse = std::numeric_limits<double>::infinity();
+    bool ok = false;
+  };
+  const auto refine = [&](const JointModel* start) {
+    Refined r;
+    if (start == nullptr) return r;
+    r.model = *start;
+    r.model.structure = iv.structure;
+    r.ok = refine_output_error(r.model, layout, data, &r.sse);
+    return r;
+  };
+  // The further starts run on a second thread (they share nothing but their inputs); the lowest criterion is kept,
+  // ties to the earlier start, so the answer does not depend on the threads.
+  std::future<std::pair<Refined, Refined>> others;
+  if (restarts) {
+    others = std::async(std::launch::async, [&] { return std::pair{refine(starts[1]), refine(starts[2])}; });
+  }
+  std::array<Refined, 3> refined{refine(starts[0]), Refined{}, Refined{}};
+  if (others.valid()) std::tie(refined[1], refined[2]) = others.get();
   std::optional<JointModel> best;
   double best_sse = std::numeric_limits<double>::infinity();
-  for (const JointModel* start : starts) {
-    if (start == nullptr) continue;
-    JointModel oe = *start;
-    oe.structure = iv.structure;
-    double sse = std::numeric_limits<double>::infinity();
-    if (refine_output_error(oe, layout, data, &sse) && sse < best_sse) {
-      best_sse = sse;
-      best = std::move(oe);
+  for (Refined& r : refined) {
+    if (r.ok && r.sse < best_sse) {
+      best_sse = r.sse;
+      best = std::move(r.model);
     }
   }
   if (!best) return std::nullopt;
