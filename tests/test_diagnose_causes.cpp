@@ -306,21 +306,6 @@ TEST(DiagnoseMechanisms, ACauseThatOnlyAbsorbsSensorNoiseIsDroppedOnceTheNoiseIs
             (std::vector<Cause>{Cause::kColoredNoise}));
 }
 
-// Session 33, on the tuning seeds 1040-1239 (DiagnosisOptions::coloured_by_candidate): an input lag at a large lambda
-// absorbed the sensor noise of colored_noise seeds 1086 and 1193 (lambda 0.74 and 0.71, val fit 68.9 and 61.6 %) so
-// that its residuals correlated less than coloured_correlation asks, and the noise was never named; the nominal
-// structure fitted by the colored_noise estimator simulates val at 90.1 and 91.2 %. And the structure without a lag
-// is fitted from no start as well as from the lag model (drop_absorbing_structure): on test seed 12408 the lag
-// model's regimes were a poor start (val 35.6 % against 84.1 % from none), and the lag stayed beside the noise.
-TEST(DiagnoseMechanisms, ALagThatAbsorbsSensorNoiseGivesWayToTheNoiseModelThatSimulatesFarBetter) {
-  const std::array<Cause, 1> noise{Cause::kColoredNoise};
-  expect_diagnosed_on_seeds(noise, {1086, 1193, 12408});
-  DiagnosisOptions without;
-  without.coloured_by_candidate = false;
-  const HiddenEffectCase c = curved_case(noise, 1086);
-  EXPECT_EQ(diagnose(c.config, c.recording, "generated", without).causes, (std::vector<Cause>{Cause::kInputLag}));
-}
-
 // Session 32, on the tuning seeds 1040-1239 (DiagnosisOptions::coloured_operator_check): once colored_noise is
 // named, an operator flip is judged again by the colored_noise estimator. Least squares had flipped the operator of
 // pairs 1046 and 1120 of dead_time+colored_noise (val fit 74.6 and 75.8 % with the flip, refitted by IV and output
