@@ -13,10 +13,10 @@ namespace lashid::sim::detail {
 /// identification phases, each phase simulated from its measured start: Levenberg-Marquardt with the simulated
 /// output's sensitivities, the operator's regimes those of the current borders at each step. Steps whose
 /// simulation is not finite are refused. Returns whether the simulation error went down; `model` is unchanged
-/// otherwise (its residuals are those of the regression it came from: the caller recomputes them). `sse`, when
-/// given, receives the simulation error energy reached (the criterion minimised, to compare starts).
+/// otherwise (its residuals are those of the regression it came from: the caller recomputes them). `reached`,
+/// when given, receives the simulation error energy reached (the criterion minimised, to compare starts).
 bool refine_output_error(JointModel& model, const Layout& layout, const FlatRecording& data,
-                         double* sse = nullptr);
+                         double* reached = nullptr);
 
 /// The output-error fit of the IV model `iv` (refine_output_error) and, with iv.structure.output_error_restarts, of
 /// two more starts: the least-squares model `least_squares` and, where iv's A is unstable, iv with A's unstable
