@@ -181,6 +181,24 @@ TEST(Diagnose, RejectsRecordingsItCannotDiagnose) {
 }  // namespace
 
 
+namespace {
+
+// The first sample of the val phase (the last phase of the recording).
+std::size_t first_val_sample(const FlatRecording& data) {
+  std::size_t val = 0;
+  while (val < data.size() && data.is_identification(val)) ++val;
+  return val;
+}
+
+// The RMS of x - truth over the samples of truth (x at least as long); NaN where x diverged.
+double rms_difference(std::span<const double> x, std::span<const double> truth) {
+  double sum = 0;
+  for (std::size_t t = 0; t < truth.size(); ++t) sum += std::pow(x[t] - truth[t], 2);
+  return std::sqrt(sum / static_cast<double>(truth.size()));
+}
+
+}  // namespace
+
 // Under white sensor noise (the colored_noise effect, SNR 20-30 dB) output error is the consistent estimator and
 // instrumental variables a poor one for n = 3: the refit by output error (ModelStructure::output_error) must
 // simulate val closer to the plant's noise-free output (the generator's truth) than the IV fit it starts from,
@@ -198,14 +216,10 @@ TEST(JointModel, OutputErrorSimulatesCloserToTheTruthUnderSensorNoise) {
     s.output_error = true;
     const JointModel oe = fit_joint_model(c.config, data, s);
     ASSERT_TRUE(iv.ok && oe.ok) << "seed " << seed;
-    std::size_t val = 0;
-    while (val < data.size() && data.is_identification(val)) ++val;
+    const std::size_t val = first_val_sample(data);
     ASSERT_EQ(data.size() - val, c.val_true_output.size());
     const auto rms_to_truth = [&](const JointModel& m) {
-      const std::vector<double> sim = simulate_segment(m, data, val, data.size());
-      double sum = 0;
-      for (std::size_t t = 0; t < sim.size(); ++t) sum += std::pow(sim[t] - c.val_true_output[t], 2);
-      return std::sqrt(sum / static_cast<double>(sim.size()));
+      return rms_difference(simulate_segment(m, data, val, data.size()), c.val_true_output);
     };
     const double rms_iv = rms_to_truth(iv), rms_oe = rms_to_truth(oe);
     EXPECT_LT(rms_oe, rms_iv) << "seed " << seed << " n " << c.config.n;
@@ -235,16 +249,10 @@ TEST(JointModel, OutputErrorFromMoreStartsReachesTheTruthWhereTheIvFitDiverges) 
   for (std::uint64_t seed : {1062U, 1224U}) {
     const HiddenEffectCase c = generate_hidden_effect_case(noise, seed, curved);
     const FlatRecording data = flatten(c.recording);
-    std::size_t val = 0;
-    while (val < data.size() && data.is_identification(val)) ++val;
+    const std::size_t val = first_val_sample(data);
     ASSERT_EQ(data.size() - val, c.val_true_output.size());
-    const auto rms_to_truth = [&](const std::vector<double>& x) {
-      double sum = 0;
-      for (std::size_t t = 0; t < x.size(); ++t) sum += std::pow(x[t] - c.val_true_output[t], 2);
-      return std::sqrt(sum / static_cast<double>(x.size()));
-    };
-    const double noise_rms =
-        rms_to_truth(std::vector<double>(data.y.begin() + static_cast<std::ptrdiff_t>(val), data.y.end()));
+    const auto rms_to_truth = [&](std::span<const double> x) { return rms_difference(x, c.val_true_output); };
+    const double noise_rms = rms_to_truth(std::span<const double>(data.y).subspan(val));
     ModelStructure s;
     s.op = c.config.op;
     s.instrumental = true;
