@@ -84,11 +84,12 @@ void unpack(const Eigen::VectorXd& x, const Layout& layout, const Parameters& p,
 }
 
 // The model with the roots of A outside the unit circle reflected inside it, B scaled to keep the static gain
-// B(1) / A(1); nullopt when A is stable.
+// B(1) / A(1); nullopt when A has no root outside the circle (the reflection returns it as it is).
 std::optional<JointModel> stabilised(const JointModel& m) {
-  if (stats::is_stable(m.a)) return std::nullopt;
+  std::vector<double> a = stats::reflected_into_unit_circle(m.a);
+  if (a == m.a) return std::nullopt;
   JointModel s = m;
-  s.a = stats::reflected_into_unit_circle(m.a);
+  s.a = std::move(a);
   const double gain = std::abs(m.a_sum()) > 1e-12 ? s.a_sum() / m.a_sum() : 1.0;
   for (double& b : s.b) b *= gain;
   return s;
@@ -202,17 +203,17 @@ std::optional<JointModel> output_error_fit(const JointModel& iv, const JointMode
   const std::optional<JointModel> reflected = restarts ? stabilised(iv) : std::nullopt;
   const std::array<const JointModel*, 3> starts{&iv, restarts ? &least_squares : nullptr,
                                                 reflected ? &*reflected : nullptr};
+  // A start that could not be refined keeps sse infinite (refine_output_error reports only what it reached).
   struct Refined {
     JointModel model;
     double sse = std::numeric_limits<double>::infinity();
-    bool ok = false;
   };
   const auto refine = [&](const JointModel* start) {
     Refined r;
     if (start == nullptr) return r;
     r.model = *start;
     r.model.structure = iv.structure;
-    r.ok = refine_output_error(r.model, layout, data, &r.sse);
+    refine_output_error(r.model, layout, data, &r.sse);
     return r;
   };
   // The further starts run on a second thread (they share nothing but their inputs); the lowest criterion is kept,
@@ -226,7 +227,7 @@ std::optional<JointModel> output_error_fit(const JointModel& iv, const JointMode
   std::optional<JointModel> best;
   double best_sse = std::numeric_limits<double>::infinity();
   for (Refined& r : refined) {
-    if (r.ok && r.sse < best_sse) {
+    if (r.sse < best_sse) {
       best_sse = r.sse;
       best = std::move(r.model);
     }
