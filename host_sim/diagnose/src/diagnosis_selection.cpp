@@ -117,6 +117,19 @@ void refine_input_lag(Diagnosis& d, CurrentModel& current, const ExperimentConfi
   end_last_step_here(d, current);  // the last step's gain includes the re-searched lambda
 }
 
+// Whether the nominal structure fitted by the colored_noise estimator (the evidence's candidate) simulates val more
+// than coloured_backward_gain points better than the model found: its structural causes then only absorb the noise
+// (the same test as drop_absorbing_structure's, for all of them at once). Where a lag absorbs sensor noise with a
+// large lambda, its residuals can correlate less than coloured_correlation asks (tuning seeds 1086, 1193, 1236 of
+// colored_noise: an input lag at lambda 0.71-0.80 simulating val at 56-69 %, the candidate at 86-91 %).
+bool noise_simulates_better(const Diagnosis& d, const CurrentModel& current, const DiagnosisOptions& options) {
+  if (!options.coloured_by_candidate || d.added.empty()) return false;
+  const auto noise = std::find_if(d.candidates.begin(), d.candidates.end(),
+                                  [](const CandidateCause& c) { return c.cause == Cause::kColoredNoise; });
+  return noise != d.candidates.end() && noise->model.ok &&
+         noise->fit_val > current.fit + options.coloured_backward_gain;
+}
+
 }  // namespace
 
 // Forward selection. Each round adds, among the supported structural candidates (every structural cause, and the
@@ -258,7 +271,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   check.correlation = left.samples > 0 ? left.whiteness.statistic / static_cast<double>(left.samples) : 0.0;
   check.aperiodic_correlation = aperiodic_correlation(current.model, data, est::schedule::period(config.n, config.m));
   const double correlation = options.coloured_aperiodic ? check.aperiodic_correlation : check.correlation;
-  if (!check.white && correlation >= options.coloured_correlation) {
+  if (!check.white && (correlation >= options.coloured_correlation || noise_simulates_better(d, current, options))) {
     CandidateCause iv = extend_model(config, data, current.model, Cause::kColoredNoise, options);
     // The cause is named by exclusion; its instrumental-variable model replaces the least-squares one only if it
     // was fitted (IV can find its instruments' matrix singular) and simulates val at least as well (an IV fit of a

@@ -160,11 +160,21 @@ struct DiagnosisOptions {
   /// diagnosis_steps.cpp; session 13, chosen on the tuning seeds 1040-1239).
   bool coloured_backward = true;
   double coloured_backward_gain = 5.0;
+  /// colored_noise is also named, residuals not white, when the nominal structure fitted by the colored_noise
+  /// estimator (its evidence candidate) simulates val more than coloured_backward_gain points better than the
+  /// structure found, whatever coloured_correlation says: the causes found then only absorb the noise, and
+  /// coloured_backward and coloured_joint_drop judge them (session 34, decided on the tuning seeds 1040-1239).
+  bool coloured_by_candidate = true;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
   /// Once colored_noise is named, an operator flip stays only if it passes operator_sse_ratio against the structure
   /// flipped back, both fitted by the colored_noise estimator (drop_absorbing_flip, diagnosis_steps.cpp; session 32,
   /// decided on the tuning seeds 1040-1239).
   bool coloured_operator_check = true;
+  /// Once colored_noise is named and those checks have run, two or more of input lag, dead time and operator flip
+  /// left beside it are judged together: the structure without all of them (a drift kept), fitted by the
+  /// colored_noise estimator, replaces the model if it simulates val more than coloured_backward_gain points better
+  /// (drop_absorbing_together, diagnosis_steps.cpp; session 34, decided on the tuning seeds 1040-1239).
+  bool coloured_joint_drop = true;
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
