@@ -346,8 +346,11 @@ TEST(DiagnoseMechanisms, AnOperatorFlipThatOnlyAbsorbsSensorNoiseIsDroppedOnceTh
   const std::array<Cause, 2> flip_and_noise{Cause::kOperatorType, Cause::kColoredNoise};
   expect_diagnosed_on_seeds(delay_and_noise, {1046, 1120});
   expect_diagnosed_on_seeds(flip_and_noise, {5501});
+  // Without the flip's own check, session 34's joint check (on by default) would drop the flip and the true delay
+  // together (colored_noise alone): it is turned off too, so that this test sees the flip's check alone.
   DiagnosisOptions without;
   without.coloured_operator_check = false;
+  without.coloured_joint_drop = false;
   const HiddenEffectCase c = curved_case(delay_and_noise, 1046);
   EXPECT_EQ(diagnose(c.config, c.recording, "generated", without).causes,
             (std::vector<Cause>{Cause::kDeadTime, Cause::kOperatorType, Cause::kColoredNoise}));
