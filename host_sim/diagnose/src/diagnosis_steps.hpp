@@ -39,7 +39,8 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
                           const FlatRecording& data, const DiagnosisOptions& options);
 
 /// Once colored_noise is named: the structural causes (DiagnosisOptions::coloured_backward) and an operator flip
-/// (DiagnosisOptions::coloured_operator_check) judged again by the colored_noise estimator; those that only
+/// (DiagnosisOptions::coloured_operator_check) judged again by the colored_noise estimator, one at a time, then the
+/// lags, dead times and flips left judged together (DiagnosisOptions::coloured_joint_drop); those that only
 /// absorbed the disturbance are dropped.
 void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                            const FlatRecording& data, const DiagnosisOptions& options);
