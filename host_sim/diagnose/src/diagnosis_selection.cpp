@@ -283,6 +283,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     }
     accept(d, current, iv, data);
     drop_absorbing_causes(d, current, config, data, options);
+    add_drift_beside_noise(d, current, config, data, options);
   }
   d.extended = current.model;
   d.fit_extended = current.fit;

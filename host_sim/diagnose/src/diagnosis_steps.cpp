@@ -200,6 +200,34 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
   });
 }
 
+// Once colored_noise is named, a drift that least squares refused is judged again by the colored_noise estimator:
+// under sensor noise its likelihood ratio is not valid, and its least-squares fit can simulate val no better than
+// the model without it. On the pairs of the tuning seeds 1040-1239 where a hidden drift was missed for colored_noise
+// (sensor_drift+colored_noise 1044, 1070, 1116, 1184, 1212, ...), the true structure fitted by that estimator
+// simulates val at 87 to 94 %, the model found at 41 to 81 %. The drift is added, as the last step, if the structure
+// with it, fitted by that estimator, simulates val more than options.coloured_backward_gain points better.
+void add_drift_beside_noise(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                            const FlatRecording& data, const DiagnosisOptions& options) {
+  if (!options.coloured_drift_check || current.model.structure.drift) return;
+  ModelStructure s = current.model.structure;
+  s.drift = true;
+  const JointModel with = fit_joint_model(config, data, coloured_estimator(s, options), &current.model);
+  if (!with.ok ||
+      !(simulation_fit(with, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
+    return;
+  }
+  AddedCause drift;
+  drift.cause = Cause::kSensorDrift;
+  drift.likelihood_ratio = likelihood_ratio(current.model, with);
+  drift.fit_before = current.fit;
+  drift.ljung_box_before = current.identification.whiteness.statistic;
+  adopt(current, with, d, data);
+  drift.fit_after = current.fit;
+  drift.ljung_box_after = current.identification.whiteness.statistic;
+  d.added.push_back(drift);
+  colored_noise_model_is_current(d, current);
+}
+
 void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                            const FlatRecording& data, const DiagnosisOptions& options) {
   drop_absorbing_structure(d, current, config, data, options);

@@ -45,4 +45,10 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
 void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                            const FlatRecording& data, const DiagnosisOptions& options);
 
+/// Once colored_noise is named and the absorbing causes are judged: a drift that the model lacks, judged again by the
+/// colored_noise estimator (DiagnosisOptions::coloured_drift_check), and added as the last step if it simulates val
+/// far better.
+void add_drift_beside_noise(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
+                            const FlatRecording& data, const DiagnosisOptions& options);
+
 }  // namespace lashid::sim::detail

@@ -175,6 +175,10 @@ struct DiagnosisOptions {
   /// colored_noise estimator, replaces the model if it simulates val more than coloured_backward_gain points better
   /// (drop_absorbing_together, diagnosis_steps.cpp; session 34, decided on the tuning seeds 1040-1239).
   bool coloured_joint_drop = true;
+  /// Once colored_noise is named and those checks have run, a model without a drift gets one if the structure with
+  /// it, fitted by the colored_noise estimator, simulates val more than coloured_backward_gain points better
+  /// (add_drift_beside_noise, diagnosis_steps.cpp; session 34, decided on the tuning seeds 1040-1239).
+  bool coloured_drift_check = true;
   double max_input_lag = 0.8;
   int lag_border_segments = 10;    ///< border segments per interval between the levels in the finer input-lag model
   double lag_border_smoothness = 20.0;  ///< ModelStructure::border_smoothness of input-lag models
