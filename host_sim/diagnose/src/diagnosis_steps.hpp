@@ -46,8 +46,8 @@ void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const Experiment
                            const FlatRecording& data, const DiagnosisOptions& options);
 
 /// Once colored_noise is named and the absorbing causes are judged: a drift that the model lacks, judged again by the
-/// colored_noise estimator (DiagnosisOptions::coloured_drift_check), and added as the last step if it simulates val
-/// far better.
+/// colored_noise estimator (DiagnosisOptions::coloured_drift_check), and added, its step before colored_noise's, if
+/// it simulates val far better.
 void add_drift_beside_noise(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                             const FlatRecording& data, const DiagnosisOptions& options);
 

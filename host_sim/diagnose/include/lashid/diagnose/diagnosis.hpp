@@ -64,7 +64,9 @@ struct CandidateCause {
 struct AddedCause {
   Cause cause = Cause::kNone;
   CauseParameters parameters;   ///< this cause's, in the final model (later steps may have refitted it)
-  double likelihood_ratio = 0;  ///< N ln(RSS_before / RSS_after) on the identification phases (0 for colored_noise)
+  /// N ln(RSS_before / RSS_after) on the identification phases (0 for colored_noise, and for a drift added beside it
+  /// by DiagnosisOptions::coloured_drift_check)
+  double likelihood_ratio = 0;
   double fit_before = 0, fit_after = 0;  ///< val simulation fit without and with this cause
   double ljung_box_before = 0, ljung_box_after = 0;  ///< of the identification residuals without and with it
 };
