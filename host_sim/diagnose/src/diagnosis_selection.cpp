@@ -126,8 +126,7 @@ bool noise_simulates_better(const Diagnosis& d, const CurrentModel& current, con
   if (!options.coloured_by_candidate || d.added.empty()) return false;
   const auto noise = std::find_if(d.candidates.begin(), d.candidates.end(),
                                   [](const CandidateCause& c) { return c.cause == Cause::kColoredNoise; });
-  return noise != d.candidates.end() && noise->model.ok &&
-         noise->fit_val > current.fit + options.coloured_backward_gain;
+  return noise != d.candidates.end() && noise->model.ok && far_better_on_val(noise->fit_val, current, options);
 }
 
 }  // namespace

@@ -19,6 +19,10 @@ void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, c
   current.identification = residuals(current.model, data, false);
 }
 
+bool far_better_on_val(double fit, const CurrentModel& current, const DiagnosisOptions& options) {
+  return fit > current.fit + options.coloured_backward_gain;
+}
+
 void end_last_step_here(Diagnosis& d, const CurrentModel& current) {
   if (d.added.empty()) return;
   d.added.back().fit_after = current.fit;
@@ -37,7 +41,11 @@ ModelStructure without_cause(ModelStructure s, Cause cause) {
       s.input_lag = 0;
       s.border_segments = 1;
       break;
-    default:
+    case Cause::kOperatorType:
+      s.op = other_operator(s.op);
+      break;
+    case Cause::kColoredNoise:
+    case Cause::kNone:
       break;
   }
   return s;
@@ -45,9 +53,11 @@ ModelStructure without_cause(ModelStructure s, Cause cause) {
 
 namespace {
 
-ModelStructure flipped(ModelStructure s) {
-  s.op = other_operator(s.op);
-  return s;
+// Whether `m` was fitted and simulates val far better than the current model (far_better_on_val): a model fitted by
+// the colored_noise estimator then replaces the one found.
+bool replaces_current(const JointModel& m, const Diagnosis& d, const CurrentModel& current, const FlatRecording& data,
+                      const DiagnosisOptions& options) {
+  return m.ok && far_better_on_val(simulation_fit(m, data, d.val_begin, d.val_end), current, options);
 }
 
 // Removes step i; the step after it, if any, starts where the removed one did (its val fit and residual statistic
@@ -117,10 +127,7 @@ void drop_absorbing_structure(Diagnosis& d, CurrentModel& current, const Experim
       JointModel fresh = fit_joint_model(config, data, s);
       if (fresh.ok && (!reduced.ok || criterion(fresh) < criterion(reduced))) reduced = std::move(fresh);
     }
-    if (!reduced.ok ||
-        !(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
-      return std::nullopt;
-    }
+    if (!replaces_current(reduced, d, current, data, options)) return std::nullopt;
     return reduced;
   });
   if (dropped > 0) colored_noise_model_is_current(d, current);
@@ -139,7 +146,8 @@ void drop_absorbing_flip(Diagnosis& d, CurrentModel& current, const ExperimentCo
   const auto flip = std::find_if(d.added.begin(), d.added.end(),
                                  [](const AddedCause& a) { return a.cause == Cause::kOperatorType; });
   if (flip == d.added.end()) return;
-  const JointModel back = fit_joint_model(config, data, coloured_estimator(flipped(current.model.structure), options));
+  const JointModel back =
+      fit_joint_model(config, data, coloured_estimator(without_cause(current.model.structure, flip->cause), options));
   if (!back.ok) return;
   std::vector<double> simulated;
   // A flipped-back fit whose val simulation diverges cannot judge the flip: it stays.
@@ -166,14 +174,10 @@ void drop_absorbing_together(Diagnosis& d, CurrentModel& current, const Experime
   if (std::count_if(d.added.begin(), d.added.end(), absorbing) < 2) return;
   ModelStructure s = current.model.structure;
   for (const AddedCause& a : d.added) {
-    if (!absorbing(a)) continue;
-    s = a.cause == Cause::kOperatorType ? flipped(s) : without_cause(s, a.cause);
+    if (absorbing(a)) s = without_cause(s, a.cause);
   }
   const JointModel reduced = fit_joint_model(config, data, coloured_estimator(s, options));
-  if (!reduced.ok ||
-      !(simulation_fit(reduced, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
-    return;
-  }
+  if (!replaces_current(reduced, d, current, data, options)) return;
   for (std::size_t i = d.added.size(); i-- > 0;) {
     if (absorbing(d.added[i])) erase_step(d, i);
   }
@@ -218,10 +222,7 @@ void add_drift_beside_noise(Diagnosis& d, CurrentModel& current, const Experimen
   ModelStructure s = current.model.structure;
   s.drift = true;
   const JointModel with = fit_joint_model(config, data, coloured_estimator(s, options), &current.model);
-  if (!with.ok ||
-      !(simulation_fit(with, data, d.val_begin, d.val_end) > current.fit + options.coloured_backward_gain)) {
-    return;
-  }
+  if (!replaces_current(with, d, current, data, options)) return;
   AddedCause drift;
   drift.cause = Cause::kSensorDrift;
   drift.fit_before = noise->fit_before;

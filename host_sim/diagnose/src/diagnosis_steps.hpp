@@ -29,8 +29,13 @@ void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, c
 /// still add up to the total gain.
 void end_last_step_here(Diagnosis& d, const CurrentModel& current);
 
-/// The structure without `cause` (an input lag goes with its finer border tables); the same structure for a cause
-/// that is not structural.
+/// Whether a val fit is more than DiagnosisOptions::coloured_backward_gain points above the current model's: the
+/// margin by which a model fitted by the colored_noise estimator replaces the one found, once colored_noise is named
+/// or to name it (session 13's margin, used by every check of step 4 of the decision).
+bool far_better_on_val(double fit, const CurrentModel& current, const DiagnosisOptions& options);
+
+/// The structure without `cause` (an input lag goes with its finer border tables; without an operator flip, the other
+/// operator); the same structure for colored_noise and none.
 ModelStructure without_cause(ModelStructure s, Cause cause);
 
 /// Backward elimination once the forward selection is done: a structural cause that the final model no longer needs
