@@ -201,6 +201,29 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     instrumental_fit(lag);
     if (structural_accepted(lag, current, options)) c = std::move(lag);
   };
+  // The flipped operator before the round's best structural candidate, if a dead time or a drift on top of the flip
+  // simulates val far better than that candidate (DiagnosisOptions::operator_first): with the wrong operator, a
+  // cause the data hold can fit worse than one that absorbs the operator's error (a switch configured as a backlash
+  // with a dead time took an input lag at lambda 0.7-0.8 first, and the dead time was never found).
+  const auto operator_first = [&](const std::vector<CandidateCause>& candidates,
+                                  const CandidateCause& chosen) -> const CandidateCause* {
+    if (chosen.cause == Cause::kOperatorType) return &chosen;
+    const auto flipped = std::find_if(candidates.begin(), candidates.end(), [&](const CandidateCause& c) {
+      return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
+    });
+    if (flipped == candidates.end()) return &chosen;
+    std::vector<Cause> on_flip;
+    for (const CandidateCause& c : candidates) {
+      if (c.cause == Cause::kDeadTime || c.cause == Cause::kSensorDrift) on_flip.push_back(c.cause);
+    }
+    const std::vector<CandidateCause> tried = candidates_for(on_flip, [&](Cause cause) {
+      return refit(cause, flipped->model, current.model, current.val_simulation);
+    });
+    for (const CandidateCause& c : tried) {
+      if (c.model.ok && c.fit_val > chosen.fit_val + options.coloured_backward_gain) return &*flipped;
+    }
+    return &chosen;
+  };
   while (!round.empty()) {
     on_two_threads(round.size(), [&](std::size_t i) { instrumental_fit(round[i]); });
     for (CandidateCause& c : round) research_lag(c);
@@ -208,6 +231,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     for (const CandidateCause& c : round) {
       if (structural_accepted(c, current, options) && (best == nullptr || ranked(c) > ranked(*best))) best = &c;
     }
+    if (best != nullptr && options.operator_first) best = operator_first(round, *best);
     std::vector<Cause> added;
     std::vector<const CandidateCause*> structural;
     for (const CandidateCause& c : round) {
