@@ -224,7 +224,6 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     }
     return &chosen;
   };
-  bool flipped_first = false;  // whether operator_first took the flip (drop_flip_taken_first judges it again)
   while (!round.empty()) {
     on_two_threads(round.size(), [&](std::size_t i) { instrumental_fit(round[i]); });
     for (CandidateCause& c : round) research_lag(c);
@@ -232,10 +231,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     for (const CandidateCause& c : round) {
       if (structural_accepted(c, current, options) && (best == nullptr || ranked(c) > ranked(*best))) best = &c;
     }
-    if (best != nullptr && options.operator_first) {
-      best = operator_first(round, *best);
-      flipped_first = flipped_first || best->cause == Cause::kOperatorType;
-    }
+    if (best != nullptr && options.operator_first) best = operator_first(round, *best);
     std::vector<Cause> added;
     std::vector<const CandidateCause*> structural;
     for (const CandidateCause& c : round) {
@@ -292,7 +288,6 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
   }
   refine_input_lag(d, current, config, data, options);
   drop_unneeded_causes(d, current, config, data, options);
-  if (flipped_first) drop_flip_taken_first(d, current, config, data, options);
   const ResidualAnalysis& left = current.identification;
   ColoredNoiseCheck& check = d.colored_check;
   check.white = white(left, options);

@@ -140,32 +140,24 @@ void drop_absorbing_structure(Diagnosis& d, CurrentModel& current, const Experim
 // absorbing the noise: on the tuning seeds 1040-1239 (session 32) 10 pairs named a flip beside colored_noise where
 // none was hidden; with this check 8 of them are right (dead_time+colored_noise 1046, 1120: val fit 74.6 and 75.8 %
 // with the flip, 93.0 and 87.4 % without it), and no single cause changed.
-// The operator flip of d.added judged again against the structure flipped back (`back`, fitted from no start: its
-// regimes are the other operator's): it stays if it still passes operator_sse_ratio, or if the flipped-back fit fails
-// or its val simulation diverges (it cannot judge the flip then); otherwise it is dropped and `back` adopted.
-// Returns whether it was dropped.
-bool flip_judged_again(Diagnosis& d, CurrentModel& current, const ModelStructure& back_structure,
-                       const ExperimentConfig& config, const FlatRecording& data, const DiagnosisOptions& options) {
-  const auto flip = std::find_if(d.added.begin(), d.added.end(),
-                                 [](const AddedCause& a) { return a.cause == Cause::kOperatorType; });
-  if (flip == d.added.end()) return false;
-  const JointModel back = fit_joint_model(config, data, back_structure);
-  if (!back.ok) return false;
-  std::vector<double> simulated;
-  if (!std::isfinite(simulation_fit(back, data, d.val_begin, d.val_end, &simulated))) return false;
-  const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
-  if (flip_error_ratio(simulated, current.val_simulation, measured) < options.operator_sse_ratio) return false;
-  erase_step(d, static_cast<std::size_t>(flip - d.added.begin()));
-  adopt(current, back, d, data);
-  end_last_step_here(d, current);
-  return true;
-}
-
 void drop_absorbing_flip(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                          const FlatRecording& data, const DiagnosisOptions& options) {
   if (!options.coloured_operator_check) return;
-  const ModelStructure back = coloured_estimator(without_cause(current.model.structure, Cause::kOperatorType), options);
-  if (flip_judged_again(d, current, back, config, data, options)) colored_noise_model_is_current(d, current);
+  const auto flip = std::find_if(d.added.begin(), d.added.end(),
+                                 [](const AddedCause& a) { return a.cause == Cause::kOperatorType; });
+  if (flip == d.added.end()) return;
+  const JointModel back =
+      fit_joint_model(config, data, coloured_estimator(without_cause(current.model.structure, flip->cause), options));
+  if (!back.ok) return;
+  std::vector<double> simulated;
+  // A flipped-back fit whose val simulation diverges cannot judge the flip: it stays.
+  if (!std::isfinite(simulation_fit(back, data, d.val_begin, d.val_end, &simulated))) return;
+  const std::span<const double> measured(data.y.data() + d.val_begin, d.val_end - d.val_begin);
+  if (flip_error_ratio(simulated, current.val_simulation, measured) < options.operator_sse_ratio) return;
+  erase_step(d, static_cast<std::size_t>(flip - d.added.begin()));
+  adopt(current, back, d, data);
+  end_last_step_here(d, current);
+  colored_noise_model_is_current(d, current);
 }
 
 // The causes left beside colored_noise judged together: each of an input lag and an operator flip can pass its own
@@ -247,11 +239,6 @@ void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const Experiment
   drop_absorbing_structure(d, current, config, data, options);
   drop_absorbing_flip(d, current, config, data, options);
   drop_absorbing_together(d, current, config, data, options);
-}
-
-void drop_flip_taken_first(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
-                           const FlatRecording& data, const DiagnosisOptions& options) {
-  flip_judged_again(d, current, without_cause(current.model.structure, Cause::kOperatorType), config, data, options);
 }
 
 }  // namespace lashid::sim::detail

@@ -50,12 +50,6 @@ void drop_unneeded_causes(Diagnosis& d, CurrentModel& current, const ExperimentC
 void drop_absorbing_causes(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
                            const FlatRecording& data, const DiagnosisOptions& options);
 
-/// An operator flip taken before other causes (DiagnosisOptions::operator_first) judged again once the selection is
-/// done: dropped if the final structure with the configured operator brings val's error energy to no more than
-/// 1 / operator_sse_ratio of the flip's (the flip no longer passes its own test with the other causes in).
-void drop_flip_taken_first(Diagnosis& d, CurrentModel& current, const ExperimentConfig& config,
-                           const FlatRecording& data, const DiagnosisOptions& options);
-
 /// Once colored_noise is named and the absorbing causes are judged: a drift that the model lacks, judged again by the
 /// colored_noise estimator (DiagnosisOptions::coloured_drift_check), and added, its step before colored_noise's, if
 /// it simulates val far better.
