@@ -5,7 +5,9 @@
 #   - one seed of each single cause: the tool reads another generator's files (its own levels, lengths, val) and
 #     answers them;
 #   - dead_time+operator_type seed 8: a switch configured as a backlash, with a dead time of 3. Without the selection's
-#     operator_first check (docs/diagnose.md) the answer is input_lag (lambda 0.8) + operator_type.
+#     operator_first check (docs/diagnose.md) the answer is input_lag (lambda 0.8) + operator_type;
+#   - input_lag+sensor_drift seed 4: a backlash with a lag and a drift, whose flip to a switch a broader operator_first
+#     (a dead time or a drift on the flip against any best candidate, session 35's first form) took first, and kept.
 # Exit 0 if every case is a hit, 1 otherwise (each miss printed). Pure Python 3, standard library only.
 #
 #   python3 check_cases.py --lashid BIN --workdir DIR
@@ -16,7 +18,7 @@ import sys
 import score
 
 CASES = [("none", 1), ("input_lag", 1), ("dead_time", 1), ("sensor_drift", 1), ("colored_noise", 1),
-         ("operator_type", 1), ("dead_time+operator_type", 8)]
+         ("operator_type", 1), ("dead_time+operator_type", 8), ("input_lag+sensor_drift", 4)]
 
 
 def main():

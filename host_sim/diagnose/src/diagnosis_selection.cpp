@@ -18,6 +18,10 @@ namespace lashid::sim::detail {
 
 namespace {
 
+// How near the top of its search range (DiagnosisOptions::max_input_lag) an input lag's lambda counts as pinned at
+// its bound (operator_first).
+constexpr double kLambdaNearItsBound = 0.1;
+
 bool white(const ResidualAnalysis& r, const DiagnosisOptions& options) { return r.whiteness.p_value >= options.white_p; }
 
 // The better of a model's least-squares and instrumental-variable val fits (the IV one where it was computed).
@@ -201,28 +205,26 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     instrumental_fit(lag);
     if (structural_accepted(lag, current, options)) c = std::move(lag);
   };
-  // The flipped operator before the round's best structural candidate, if a dead time or a drift on top of the flip
-  // simulates val far better than that candidate (DiagnosisOptions::operator_first): with the wrong operator, a
-  // cause the data hold can fit worse than one that absorbs the operator's error (a switch configured as a backlash
-  // with a dead time took an input lag at lambda 0.7-0.8 first, and the dead time was never found).
+  // The flipped operator before the round's best candidate, where that is an input lag with lambda near the top of
+  // its range and a dead time on top of the flip simulates val far better (DiagnosisOptions::operator_first): with
+  // the wrong operator, the cause the data hold can fit worse than a lag that absorbs the operator's error (a switch
+  // configured as a backlash with a dead time took an input lag at lambda 0.73-0.8 first, and the dead time was
+  // never found). A lambda pinned at its bound is the lag absorbing something; the generators hide lambda <= 0.5.
   const auto operator_first = [&](const std::vector<CandidateCause>& candidates,
                                   const CandidateCause& chosen) -> const CandidateCause* {
-    if (chosen.cause == Cause::kOperatorType) return &chosen;
+    if (chosen.cause != Cause::kInputLag ||
+        !(chosen.model.structure.input_lag >= options.max_input_lag - kLambdaNearItsBound)) {
+      return &chosen;
+    }
     const auto flipped = std::find_if(candidates.begin(), candidates.end(), [&](const CandidateCause& c) {
       return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
     });
     if (flipped == candidates.end()) return &chosen;
-    std::vector<Cause> on_flip;
-    for (const CandidateCause& c : candidates) {
-      if (c.cause == Cause::kDeadTime || c.cause == Cause::kSensorDrift) on_flip.push_back(c.cause);
-    }
-    const std::vector<CandidateCause> tried = candidates_for(on_flip, [&](Cause cause) {
-      return refit(cause, flipped->model, current.model, current.val_simulation);
-    });
-    for (const CandidateCause& c : tried) {
-      if (c.model.ok && c.fit_val > chosen.fit_val + options.coloured_backward_gain) return &*flipped;
-    }
-    return &chosen;
+    const bool delay_left = std::any_of(candidates.begin(), candidates.end(),
+                                        [](const CandidateCause& c) { return c.cause == Cause::kDeadTime; });
+    if (!delay_left) return &chosen;
+    const CandidateCause delayed = refit(Cause::kDeadTime, flipped->model, current.model, current.val_simulation);
+    return delayed.model.ok && delayed.fit_val > chosen.fit_val + options.coloured_backward_gain ? &*flipped : &chosen;
   };
   while (!round.empty()) {
     on_two_threads(round.size(), [&](std::size_t i) { instrumental_fit(round[i]); });

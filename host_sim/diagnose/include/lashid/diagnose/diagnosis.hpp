@@ -168,9 +168,9 @@ struct DiagnosisOptions {
   /// coloured_backward and coloured_joint_drop judge them (session 34, decided on the tuning seeds 1040-1239).
   bool coloured_by_candidate = true;
   double operator_sse_ratio = 0.6; ///< flipped operator: val SSE below this fraction of the current one
-  /// In a round of the selection whose best candidate is structural while the flipped operator is supported too, a
-  /// dead time and a drift are also fitted on top of the flipped operator; if one of them simulates val more than
-  /// coloured_backward_gain points better than the best candidate, the flip is taken first (operator_first,
+  /// In a round of the selection whose best candidate is an input lag with lambda within 0.1 of max_input_lag while
+  /// the flipped operator is supported too, a dead time is also fitted on top of the flipped operator; if it
+  /// simulates val more than coloured_backward_gain points better than the lag, the flip is taken first (operator_first,
   /// diagnosis_selection.cpp; session 35: a switch configured as a backlash, with a dead time, was answered with an
   /// input lag at lambda 0.7-0.8 on the independent generator's recordings, tests/independent).
   bool operator_first = true;
