@@ -26,6 +26,7 @@ def main():
     p.add_argument("--lashid", required=True, help="the lashid executable")
     p.add_argument("--workdir", required=True, help="directory for the recordings (created)")
     args = p.parse_args()
+    score.require_executable(args.lashid, "check_cases.py")
     os.makedirs(args.workdir, exist_ok=True)
     run_args = argparse.Namespace(lashid=args.lashid, workdir=args.workdir, n="2", m="6", keep_all=False)
     misses = 0

@@ -11,6 +11,8 @@ import os
 import subprocess
 import sys
 
+import score
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -23,6 +25,7 @@ def main():
     ap.add_argument("--n", default="random")
     ap.add_argument("--m", default="random")
     args = ap.parse_args()
+    score.require_executable(args.lashid, "check_identify.py")
     os.makedirs(args.workdir, exist_ok=True)
     worst_all = 0.0
     for seed in range(args.first_seed, args.first_seed + args.seeds):

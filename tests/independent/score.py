@@ -24,6 +24,12 @@ PAIRS = ["input_lag+sensor_drift", "dead_time+colored_noise", "dead_time+operato
          "sensor_drift+colored_noise"]
 
 
+def require_executable(path, program):
+    """Exit with a one-line error (no traceback) unless `path` is an executable file."""
+    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
+        sys.exit(f"{program}: --lashid {path}: not an executable file")
+
+
 def read_val_y(path):
     ys = []
     with open(path) as f:
@@ -155,6 +161,7 @@ def main():
     ap.add_argument("--json", default=None)
     ap.add_argument("--keep-all", action="store_true", help="keep the recordings of hits too")
     args = ap.parse_args()
+    require_executable(args.lashid, "score.py")
     causes = args.causes.split(",") if args.causes else (PAIRS if args.pairs else SINGLES)
     for c in causes:
         if c not in SINGLES + PAIRS:
