@@ -130,7 +130,7 @@ bool noise_simulates_better(const Diagnosis& d, const CurrentModel& current, con
   if (!options.coloured_by_candidate || d.added.empty()) return false;
   const auto noise = std::find_if(d.candidates.begin(), d.candidates.end(),
                                   [](const CandidateCause& c) { return c.cause == Cause::kColoredNoise; });
-  return noise != d.candidates.end() && noise->model.ok && far_better_on_val(noise->fit_val, current, options);
+  return noise != d.candidates.end() && noise->model.ok && far_better_on_val(noise->fit_val, current.fit, options);
 }
 
 }  // namespace
@@ -205,6 +205,12 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     instrumental_fit(lag);
     if (structural_accepted(lag, current, options)) c = std::move(lag);
   };
+  // The flipped-operator candidate among `candidates` if the current model supports it (operator_accepted), else end.
+  const auto supported_flip = [&](const std::vector<CandidateCause>& candidates) {
+    return std::find_if(candidates.begin(), candidates.end(), [&](const CandidateCause& c) {
+      return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
+    });
+  };
   // The flipped operator before the round's best candidate, where that is an input lag with lambda near the top of
   // its range and a dead time on top of the flip simulates val far better (DiagnosisOptions::operator_first): with
   // the wrong operator, the cause the data hold can fit worse than a lag that absorbs the operator's error (a switch
@@ -216,15 +222,13 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
         !(chosen.model.structure.input_lag >= options.max_input_lag - kLambdaNearItsBound)) {
       return &chosen;
     }
-    const auto flipped = std::find_if(candidates.begin(), candidates.end(), [&](const CandidateCause& c) {
-      return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
-    });
+    const auto flipped = supported_flip(candidates);
     if (flipped == candidates.end()) return &chosen;
     const bool delay_left = std::any_of(candidates.begin(), candidates.end(),
                                         [](const CandidateCause& c) { return c.cause == Cause::kDeadTime; });
     if (!delay_left) return &chosen;
     const CandidateCause delayed = refit(Cause::kDeadTime, flipped->model, current.model, current.val_simulation);
-    return delayed.model.ok && delayed.fit_val > chosen.fit_val + options.coloured_backward_gain ? &*flipped : &chosen;
+    return delayed.model.ok && far_better_on_val(delayed.fit_val, chosen.fit_val, options) ? &*flipped : &chosen;
   };
   while (!round.empty()) {
     on_two_threads(round.size(), [&](std::size_t i) { instrumental_fit(round[i]); });
@@ -272,9 +276,7 @@ void select_causes(Diagnosis& d, const ExperimentConfig& config, const FlatRecor
     }
     if (added.empty()) {
       // Last: the other operator type by its val error alone (the identification phases cannot judge it).
-      const auto flipped = std::find_if(round.begin(), round.end(), [&](const CandidateCause& c) {
-        return c.cause == Cause::kOperatorType && operator_accepted(c, current, options);
-      });
+      const auto flipped = supported_flip(round);
       if (flipped == round.end()) break;
       added.push_back(Cause::kOperatorType);
       accept(d, current, *flipped, data);

@@ -19,8 +19,8 @@ void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, c
   current.identification = residuals(current.model, data, false);
 }
 
-bool far_better_on_val(double fit, const CurrentModel& current, const DiagnosisOptions& options) {
-  return fit > current.fit + options.coloured_backward_gain;
+bool far_better_on_val(double fit, double than, const DiagnosisOptions& options) {
+  return fit > than + options.coloured_backward_gain;
 }
 
 void end_last_step_here(Diagnosis& d, const CurrentModel& current) {
@@ -57,7 +57,7 @@ namespace {
 // the colored_noise estimator then replaces the one found.
 bool replaces_current(const JointModel& m, const Diagnosis& d, const CurrentModel& current, const FlatRecording& data,
                       const DiagnosisOptions& options) {
-  return m.ok && far_better_on_val(simulation_fit(m, data, d.val_begin, d.val_end), current, options);
+  return m.ok && far_better_on_val(simulation_fit(m, data, d.val_begin, d.val_end), current.fit, options);
 }
 
 // Removes step i; the step after it, if any, starts where the removed one did (its val fit and residual statistic

@@ -29,10 +29,11 @@ void adopt(CurrentModel& current, const JointModel& model, const Diagnosis& d, c
 /// still add up to the total gain.
 void end_last_step_here(Diagnosis& d, const CurrentModel& current);
 
-/// Whether a val fit is more than DiagnosisOptions::coloured_backward_gain points above the current model's: the
-/// margin by which a model fitted by the colored_noise estimator replaces the one found, once colored_noise is named
-/// or to name it (session 13's margin, used by every check of step 4 of the decision).
-bool far_better_on_val(double fit, const CurrentModel& current, const DiagnosisOptions& options);
+/// Whether a val fit is more than DiagnosisOptions::coloured_backward_gain points above `than` (the current model's,
+/// or a rival candidate's): the margin by which a model fitted by the colored_noise estimator replaces the one found,
+/// once colored_noise is named or to name it (session 13's margin, used by every check of step 4 of the decision),
+/// and by which the flip goes first (operator_first).
+bool far_better_on_val(double fit, double than, const DiagnosisOptions& options);
 
 /// The structure without `cause` (an input lag goes with its finer border tables; without an operator flip, the other
 /// operator); the same structure for colored_noise and none.
